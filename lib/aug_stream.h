@@ -1,0 +1,174 @@
+/* augcut stream layer: record framing, validation, pass-through (formats/stream.md). */
+#ifndef AUG_STREAM_H
+#define AUG_STREAM_H
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stddef.h>
+
+#define AUG_VERSION_MAJOR 1
+#define AUG_VERSION_MINOR 0
+#define AUG_VERSION_STRING "1.0.0"
+
+/* The 8-byte signature: high bit, name, CR LF, ^Z, LF (as PNG). */
+extern const unsigned char aug_signature[8];
+
+/* Error codes (aug_err.code). 0 is success. */
+enum {
+    AUG_OK = 0,
+    AUG_EIO,        /* read/write failure of the underlying file */
+    AUG_ESIG,       /* bad signature */
+    AUG_ETRUNC,     /* stream ends inside a record or without a TAIL record */
+    AUG_ECRC,       /* CRC mismatch */
+    AUG_ELEN,       /* impossible length */
+    AUG_ETYPE,      /* malformed or unknown critical type */
+    AUG_EORDER,     /* record out of order or repeated */
+    AUG_EVERSION,   /* unsupported format version */
+    AUG_EPAYLOAD,   /* payload does not match its record's layout */
+    AUG_ENOMEM,     /* allocation failed */
+    AUG_EZLIB,      /* deflate/inflate failure */
+    AUG_EDATA,      /* payload is well formed but its content is invalid */
+    AUG_ESINGULAR,  /* a matrix is singular / not positive definite */
+    AUG_ENOCONV,    /* an iterative method did not converge */
+    AUG_EUSAGE      /* invalid argument to a library function */
+};
+
+/* Error report filled by every library function that can fail. */
+typedef struct aug_err {
+    int code;
+    long record;       /* 0-based index of the record in its stream, -1 if none */
+    char type[5];      /* its 4-letter type, "" if none */
+    char msg[256];
+} aug_err;
+
+void aug_err_clear(aug_err *e);
+/* Fill e (code, record, type, printf-style message); returns code. */
+int aug_err_set(aug_err *e, int code, long record, const char *type, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+const char *aug_strerror(int code);
+
+/* Record flags (u32 in every record body). */
+#define AUG_FLAG_DEFLATE 1u   /* payload is zlib-deflated */
+#define AUG_NOSTEP (-1)        /* step value of records that are not per-step */
+
+/* One record as read: type, flags, step, the inflated payload, and the exact
+   wire bytes (for byte-identical pass-through). */
+typedef struct aug_rec {
+    char type[5];
+    uint32_t flags;
+    int32_t step;
+    long index;                /* 0-based index in the stream it came from */
+    unsigned char *data;       /* inflated payload */
+    uint64_t len;              /* its length */
+    unsigned char *wire;       /* length|type|body|crc exactly as read */
+    uint64_t wirelen;
+    size_t cap_data, cap_wire; /* internal buffer capacities */
+} aug_rec;
+
+/* Property bits carried by the letter case of a type. */
+int aug_type_critical(const char *type);     /* first letter upper case */
+int aug_type_safe_to_copy(const char *type); /* fourth letter lower case */
+
+/* Known record kinds: see aug_record_table in stream.c and formats/stream.md. */
+typedef struct aug_rectype {
+    const char *type;
+    uint64_t minlen, maxlen;   /* inflated payload length bounds */
+    int phase;                 /* 0 head, 1 mesh, 2 matrix, 3 steps, 4 tail; -1 anywhere */
+    int once;                  /* at most once per stream */
+    int perstep;               /* carries a step number >= 0 */
+} aug_rectype;
+const aug_rectype *aug_rectype_find(const char *type);
+
+typedef struct aug_reader aug_reader;
+typedef struct aug_writer aug_writer;
+
+/* Open a stream for reading; checks the signature and the HEAD record. name is
+   used in messages. Returns NULL and fills e on failure. */
+aug_reader *aug_reader_open(FILE *f, const char *name, aug_err *e);
+/* Next record after HEAD. Returns 1 with rec filled, 0 at TAIL (the stream is
+   whole), or -1 with e filled. Unknown ancillary records are returned (the
+   caller passes them through); unknown critical records are an error. */
+int aug_read(aug_reader *r, aug_rec *rec, aug_err *e);
+/* The upstream HEAD's producer string and minor version. */
+const char *aug_reader_producer(const aug_reader *r);
+long aug_reader_count(const aug_reader *r);  /* records read so far */
+void aug_reader_free(aug_reader *r);
+void aug_rec_free(aug_rec *rec);             /* frees buffers, not rec itself */
+
+/* Open a stream for writing: writes the signature and the HEAD record.
+   deflate_min: payloads at least this long are deflated (0: never). */
+aug_writer *aug_writer_open(FILE *f, const char *producer, aug_err *e);
+void aug_writer_deflate(aug_writer *w, uint64_t deflate_min);
+/* Write one record with the given payload. */
+int aug_write(aug_writer *w, const char *type, int32_t step, const void *payload,
+              uint64_t len, aug_err *e);
+/* Write a record read from another stream byte for byte. */
+int aug_write_rec(aug_writer *w, const aug_rec *rec, aug_err *e);
+/* Write the provenance record: tool name, version, command line. */
+int aug_write_prov(aug_writer *w, int argc, char **argv, aug_err *e);
+/* Write TAIL and flush. Without this call the stream is incomplete, on purpose. */
+int aug_writer_close(aug_writer *w, aug_err *e);
+void aug_writer_free(aug_writer *w);
+long aug_writer_count(const aug_writer *w);
+
+/* Payload building (little-endian on the wire). */
+typedef struct aug_buf {
+    unsigned char *p;
+    size_t len, cap;
+    int failed;           /* set when an allocation failed; all later puts are no-ops */
+} aug_buf;
+void aug_buf_init(aug_buf *b);
+void aug_buf_free(aug_buf *b);
+void aug_buf_put(aug_buf *b, const void *src, size_t n);
+void aug_buf_i32(aug_buf *b, int32_t v);
+void aug_buf_i64(aug_buf *b, int64_t v);
+void aug_buf_f64(aug_buf *b, double v);
+void aug_buf_i32v(aug_buf *b, const int32_t *v, size_t n);
+void aug_buf_i64v(aug_buf *b, const int64_t *v, size_t n);
+void aug_buf_f64v(aug_buf *b, const double *v, size_t n);
+void aug_buf_name(aug_buf *b, const char *s);  /* fixed 64-byte NUL-padded name */
+
+/* Payload parsing with bounds checks: a get past the end sets ok = 0 and
+   returns zero values; check cur.ok once at the end. */
+typedef struct aug_cur {
+    const unsigned char *p;
+    uint64_t len, pos;
+    int ok;
+} aug_cur;
+void aug_cur_init(aug_cur *c, const aug_rec *rec);
+int32_t aug_cur_i32(aug_cur *c);
+int64_t aug_cur_i64(aug_cur *c);
+double aug_cur_f64(aug_cur *c);
+/* Copy n elements into dst (dst may be NULL to skip). */
+void aug_cur_i32v(aug_cur *c, int32_t *dst, uint64_t n);
+void aug_cur_i64v(aug_cur *c, int64_t *dst, uint64_t n);
+void aug_cur_f64v(aug_cur *c, double *dst, uint64_t n);
+void aug_cur_name(aug_cur *c, char dst[64]);
+/* Remaining bytes >= n*size, without overflow. */
+int aug_cur_has(const aug_cur *c, uint64_t n, uint64_t size);
+
+/* Named-value records (cOND sTAt tIMe qUAl): a tag (method or tool name) and
+   up to AUG_KV_MAX (key, float64) pairs, in insertion order. */
+#define AUG_KV_MAX 64
+typedef struct aug_kv {
+    char tag[16];
+    int n;
+    char key[AUG_KV_MAX][16];
+    double val[AUG_KV_MAX];
+} aug_kv;
+void aug_kv_init(aug_kv *kv, const char *tag);
+/* Set key (replacing an existing one); returns 0, or -1 when full. */
+int aug_kv_set(aug_kv *kv, const char *key, double v);
+/* Value of key, or def when absent. */
+double aug_kv_get(const aug_kv *kv, const char *key, double def);
+int aug_write_kv(aug_writer *w, const char *type, int32_t step, const aug_kv *kv, aug_err *e);
+int aug_read_kv(const aug_rec *rec, aug_kv *kv, aug_err *e);
+
+/* Failure injection for tests: the n-th allocation through aug_malloc fails
+   (n < 0: never). */
+void aug_fail_after(long n);
+void *aug_malloc(size_t n);
+void *aug_calloc(size_t n, size_t size);
+void *aug_realloc(void *p, size_t n);
+
+#endif

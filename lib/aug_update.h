@@ -1,0 +1,60 @@
+/* augcut update layer: one cut step as a mesh delta (MDLT) and a principal
+   submatrix update (UPDT), AMPS paper eq. 3.1 (formats/stream.md). */
+#ifndef AUG_UPDATE_H
+#define AUG_UPDATE_H
+
+#include "aug_mesh.h"
+
+/* Mesh change of one step: new nodes are appended (their index is nn + i at the
+   time of the step), changed elements get a new connectivity, new elements are
+   appended (refinement/splitting). */
+typedef struct aug_mdelta {
+    int32_t step;
+    int64_t nnew;
+    int32_t *parent;     /* nnew: node each new node was copied or split from */
+    double *x;           /* nnew*dim coordinates */
+    int64_t nmod;
+    int32_t *elem;       /* nmod element indices, increasing */
+    int32_t *conn;       /* nmod*nv new connectivity */
+    int64_t nadd;
+    int32_t *conn_add;   /* nadd*nv */
+    int32_t *mat_add;    /* nadd material indices */
+    int32_t flags;       /* AUG_STEP_* */
+} aug_mdelta;
+
+enum {
+    AUG_STEP_DETACHED = 1,   /* this step detaches a piece without Dirichlet support */
+    AUG_STEP_PINNED = 2,     /* ... which was pinned by added constraints */
+    AUG_STEP_DROPPED = 4     /* ... which was dropped (its DOFs constrained to 0) */
+};
+
+/* Principal submatrix update of one step, relative to the previous step's
+   matrix K_{t-1} (order n_{t-1}):
+     K_t = [K_{t-1} 0; 0 I_k] - Hbar (E + [0 0; 0 I_k]) Hbar'
+   Hbar = [H 0; 0 I_k]: H holds m increasing indices into 0..n_{t-1}-1, the new
+   DOFs are n_{t-1}..n_{t-1}+k-1. E is (m+k)x(m+k) symmetric, column-major.
+   df = f_t - [f_{t-1}; 0] restricted to Hbar (loads changed on H and loads on
+   the new DOFs). */
+typedef struct aug_update {
+    int32_t step;
+    int32_t m, k;
+    int32_t *H;
+    double *E;
+    double *df;
+} aug_update;
+
+void aug_mdelta_init(aug_mdelta *d);
+void aug_mdelta_free(aug_mdelta *d);
+void aug_update_init(aug_update *u);
+void aug_update_free(aug_update *u);
+
+int aug_write_mdelta(aug_writer *w, int dim, int nv, const aug_mdelta *d, aug_err *e);
+int aug_read_mdelta(const aug_rec *rec, int dim, int nv, aug_mdelta *d, aug_err *e);
+int aug_write_update(aug_writer *w, const aug_update *u, aug_err *e);
+int aug_read_update(const aug_rec *rec, aug_update *u, aug_err *e);
+
+/* Apply a mesh delta to m (nodes appended, elements re-wired and appended, new
+   nodes inherit their parent's constraints and set memberships). */
+int aug_mesh_apply(aug_mesh *m, const aug_mdelta *d, aug_err *e);
+
+#endif

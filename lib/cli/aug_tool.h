@@ -1,0 +1,46 @@
+/* Command-line side shared by the tools: messages, exit codes, stream set-up.
+   Unlike lib/, this code prints to stderr and exits. */
+#ifndef AUG_TOOL_H
+#define AUG_TOOL_H
+
+#include "../aug_stream.h"
+
+typedef struct aug_tool {
+    const char *prog;
+    const char *inname;   /* input file name as shown in messages ("-" = stdin) */
+    FILE *in;
+    aug_reader *r;
+    aug_writer *w;
+    int argc;
+    char **argv;
+    int usage_errors;
+} aug_tool;
+
+void aug_tool_init(aug_tool *t, const char *prog, int argc, char **argv);
+/* Report one usage error (counted); all are reported before exiting. */
+void aug_tool_usage(aug_tool *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Exit 2 with the synopsis if usage errors were reported. */
+void aug_tool_usage_done(aug_tool *t, const char *synopsis);
+/* Open the input stream (path NULL or "-": stdin); dies on error. */
+void aug_tool_open_in(aug_tool *t, const char *path);
+/* Open the output stream on stdout with a provenance record; dies on error. */
+void aug_tool_open_out(aug_tool *t);
+/* Next record: 1, or 0 at the end of a whole stream; dies on any error. */
+int aug_tool_read(aug_tool *t, aug_rec *rec);
+void aug_tool_pass(aug_tool *t, const aug_rec *rec);   /* write rec byte for byte */
+void aug_tool_write(aug_tool *t, const char *type, int32_t step, const void *p, uint64_t n);
+void aug_tool_check(aug_tool *t, int rc, const aug_err *e); /* dies if rc != 0 */
+/* Write TAIL and close; only a stream closed this way is whole. */
+void aug_tool_close(aug_tool *t);
+/* "prog: file: record N (TYPE): message", exit 1. Output side uses "<stdout>". */
+void aug_tool_fail(aug_tool *t, const aug_err *e) __attribute__((noreturn));
+void aug_tool_die(aug_tool *t, const char *fmt, ...) __attribute__((noreturn, format(printf, 2, 3)));
+
+/* Option values: "a,b,c" into exactly n doubles; an integer; 0 on success. */
+int aug_parse_doubles(const char *s, double *v, int n);
+int aug_parse_long(const char *s, long *v);
+int aug_parse_double(const char *s, double *v);
+/* Wall clock in seconds (monotonic). */
+double aug_now(void);
+
+#endif

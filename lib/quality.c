@@ -1,0 +1,165 @@
+/* Element measure and quality (volume/area, aspect ratio, angles) and boundary detection. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "aug_mesh.h"
+
+static const double *P(const aug_mesh *m, int64_t e, int j)
+{
+    return m->x + (size_t)m->conn[e * m->nv + j] * m->dim;
+}
+
+static void sub3(const double *a, const double *b, double *r)
+{
+    r[0] = a[0] - b[0], r[1] = a[1] - b[1], r[2] = a[2] - b[2];
+}
+static void cross3(const double *a, const double *b, double *r)
+{
+    r[0] = a[1] * b[2] - a[2] * b[1];
+    r[1] = a[2] * b[0] - a[0] * b[2];
+    r[2] = a[0] * b[1] - a[1] * b[0];
+}
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double norm3(const double *a) { return sqrt(dot3(a, a)); }
+
+/* V = det[p1-p0, p2-p0, p3-p0] / 6 (tet4);  A = det[p1-p0, p2-p0] / 2 (tri3) */
+double aug_elem_measure(const aug_mesh *m, int64_t e)
+{
+    if (m->nv == 4) {
+        double a[3], b[3], c[3], n[3];
+        sub3(P(m, e, 1), P(m, e, 0), a);
+        sub3(P(m, e, 2), P(m, e, 0), b);
+        sub3(P(m, e, 3), P(m, e, 0), c);
+        cross3(a, b, n);
+        return dot3(n, c) / 6.0;
+    }
+    const double *p0 = P(m, e, 0), *p1 = P(m, e, 1), *p2 = P(m, e, 2);
+    return 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p2[0] - p0[0]) * (p1[1] - p0[1]));
+}
+
+static void tri_quality(const aug_mesh *m, int64_t e, aug_quality *q)
+{
+    double L[3], emin = INFINITY, emax = 0;
+    for (int i = 0; i < 3; i++) {
+        const double *a = P(m, e, i), *b = P(m, e, (i + 1) % 3);
+        L[i] = hypot(b[0] - a[0], b[1] - a[1]);
+        emin = fmin(emin, L[i]);
+        emax = fmax(emax, L[i]);
+    }
+    double amin = 180;
+    for (int i = 0; i < 3; i++) { /* angle opposite edge i: law of cosines */
+        double a = L[i], b = L[(i + 1) % 3], c = L[(i + 2) % 3];
+        double cs = (b * b + c * c - a * a) / (2 * b * c);
+        amin = fmin(amin, acos(fmax(-1, fmin(1, cs))) * 180 / M_PI);
+    }
+    q->measure = aug_elem_measure(m, e);
+    q->edge_ratio = emax / emin;
+    q->aspect = q->edge_ratio; /* thesis 003, sec. 3.3: longest / shortest edge */
+    q->min_angle = amin;
+}
+
+/* aspect = R / (3 r): circumradius over three inradii, 1 for the regular tet */
+static void tet_quality(const aug_mesh *m, int64_t e, aug_quality *q)
+{
+    static const int edges[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
+                                     {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+    double emin = INFINITY, emax = 0, dmin = 180;
+    for (int k = 0; k < 6; k++) {
+        const double *pi = P(m, e, edges[k][0]), *pj = P(m, e, edges[k][1]);
+        const double *pk = P(m, e, edges[k][2]), *pl = P(m, e, edges[k][3]);
+        double u[3], vk[3], vl[3];
+        sub3(pj, pi, u);
+        double len = norm3(u);
+        emin = fmin(emin, len);
+        emax = fmax(emax, len);
+        for (int d = 0; d < 3; d++) u[d] /= len;
+        sub3(pk, pi, vk);
+        sub3(pl, pi, vl);
+        double sk = dot3(vk, u), sl = dot3(vl, u);
+        for (int d = 0; d < 3; d++) vk[d] -= sk * u[d], vl[d] -= sl * u[d];
+        double cs = dot3(vk, vl) / (norm3(vk) * norm3(vl));
+        dmin = fmin(dmin, acos(fmax(-1, fmin(1, cs))) * 180 / M_PI);
+    }
+    double a[3], b[3], c[3], t[3], s[3];
+    sub3(P(m, e, 1), P(m, e, 0), a);
+    sub3(P(m, e, 2), P(m, e, 0), b);
+    sub3(P(m, e, 3), P(m, e, 0), c);
+    double V = aug_elem_measure(m, e);
+    double num[3] = {0, 0, 0};
+    cross3(b, c, t);
+    for (int d = 0; d < 3; d++) num[d] += dot3(a, a) * t[d];
+    cross3(c, a, t);
+    for (int d = 0; d < 3; d++) num[d] += dot3(b, b) * t[d];
+    cross3(a, b, t);
+    for (int d = 0; d < 3; d++) num[d] += dot3(c, c) * t[d];
+    double R = norm3(num) / (12 * fabs(V));
+    double area = 0;
+    static const int faces[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+    for (int f = 0; f < 4; f++) {
+        sub3(P(m, e, faces[f][1]), P(m, e, faces[f][0]), s);
+        sub3(P(m, e, faces[f][2]), P(m, e, faces[f][0]), t);
+        double n[3];
+        cross3(s, t, n);
+        area += 0.5 * norm3(n);
+    }
+    double r = 3 * fabs(V) / area;
+    q->measure = V;
+    q->edge_ratio = emax / emin;
+    q->aspect = R / (3 * r);
+    q->min_angle = dmin;
+}
+
+void aug_elem_quality(const aug_mesh *m, int64_t e, aug_quality *q)
+{
+    if (m->nv == 4) tet_quality(m, e, q);
+    else tri_quality(m, e, q);
+}
+
+static int cmp_face(const void *a, const void *b)
+{
+    const int32_t *x = a, *y = b;
+    for (int i = 0; i < 3; i++)
+        if (x[i] != y[i]) return x[i] < y[i] ? -1 : 1;
+    return 0;
+}
+
+static void sort_small(int32_t *v, int n)
+{
+    for (int i = 1; i < n; i++)
+        for (int j = i; j > 0 && v[j - 1] > v[j]; j--) {
+            int32_t t = v[j];
+            v[j] = v[j - 1];
+            v[j - 1] = t;
+        }
+}
+
+/* a facet (tet face / triangle edge) used by exactly one element is boundary */
+int64_t aug_mesh_boundary_nodes(const aug_mesh *m, unsigned char *mark)
+{
+    int nf = m->nv, fv = m->nv - 1;
+    int32_t *F = aug_malloc((size_t)(m->ne * nf) * 3 * sizeof(int32_t));
+    if (!F) return -1;
+    for (int64_t e = 0; e < m->ne; e++)
+        for (int f = 0; f < nf; f++) {
+            int32_t *t = F + (e * nf + f) * 3;
+            int k = 0;
+            for (int j = 0; j < m->nv; j++)
+                if (j != f) t[k++] = m->conn[e * m->nv + j];
+            if (fv == 2) t[2] = -1;
+            sort_small(t, fv);
+        }
+    int64_t nt = m->ne * nf;
+    qsort(F, (size_t)nt, 3 * sizeof(int32_t), cmp_face);
+    memset(mark, 0, (size_t)m->nn);
+    for (int64_t i = 0; i < nt;) {
+        int64_t j = i + 1;
+        while (j < nt && cmp_face(F + 3 * i, F + 3 * j) == 0) j++;
+        if (j - i == 1)
+            for (int k = 0; k < fv; k++) mark[F[3 * i + k]] = 1;
+        i = j;
+    }
+    free(F);
+    int64_t c = 0;
+    for (int64_t i = 0; i < m->nn; i++) c += mark[i];
+    return c;
+}

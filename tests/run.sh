@@ -1,0 +1,46 @@
+#!/bin/sh
+# Runs every test: unit binaries (normal and ASan/UBSan builds) and shell tests
+# tests/*.test. Each unit binary prints "PASS name" / "FAIL name: why" lines;
+# each shell test passes when it exits 0. Ends with "N passed, N failed".
+cd "$(dirname "$0")/.." || exit 2
+B=build
+pass=0; fail=0
+asan_only=0; [ "$1" = "--asan-only" ] && asan_only=1
+export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
+export AUG_BIN="$PWD/bin" AUG_DATA="$PWD/tests/data" AUG_SCENES="$PWD/$B/scenes" AUG_ROOT="$PWD"
+log=$B/test.log; : > $log
+
+run_unit() { # $1 binary, $2 label prefix
+    out=$("$1" 2>&1); rc=$?
+    echo "$out" >> $log
+    p=$(printf '%s\n' "$out" | grep -c '^PASS ')
+    f=$(printf '%s\n' "$out" | grep -c '^FAIL ')
+    printf '%s\n' "$out" | grep '^FAIL ' | sed "s|^|$2|"
+    if [ $rc -ne 0 ] && [ $f -eq 0 ]; then
+        echo "${2}FAIL $(basename "$1"): exit $rc"; printf '%s\n' "$out" | tail -5; f=1
+    fi
+    pass=$((pass + p)); fail=$((fail + f))
+}
+
+if [ $asan_only -eq 0 ]; then
+    for t in $B/tests/*; do [ -x "$t" ] && run_unit "$t" ""; done
+fi
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+for t in $B/asan/tests/*; do [ -x "$t" ] && run_unit "$t" "asan: "; done
+unset ASAN_OPTIONS UBSAN_OPTIONS
+
+if [ $asan_only -eq 0 ]; then
+    for t in tests/*.test; do
+        name=$(basename "$t" .test)
+        tmp=$(mktemp -d)
+        if (cd "$tmp" && TMP="$tmp" sh "$AUG_ROOT/$t") > "$tmp/.out" 2>&1; then
+            pass=$((pass + 1)); echo "PASS $name" >> $log
+        else
+            fail=$((fail + 1)); echo "FAIL $name"; tail -15 "$tmp/.out" | sed 's/^/    /'
+            echo "FAIL $name" >> $log; cat "$tmp/.out" >> $log
+        fi
+        rm -rf "$tmp"
+    done
+fi
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]
