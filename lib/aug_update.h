@@ -57,4 +57,16 @@ int aug_read_update(const aug_rec *rec, aug_update *u, aug_err *e);
    nodes inherit their parent's constraints and set memberships). */
 int aug_mesh_apply(aug_mesh *m, const aug_mdelta *d, aug_err *e);
 
+/* Cut-matrix numbering (formats/stream.md 7.2) of a mesh whose first nn0 nodes
+   are the original ones, numbered by map0 (aug_dofmap) with nfree0 free DOFs:
+   index(node, c) = map0[node*dim+c] for node < nn0 (-1 if constrained), else
+   nfree0 + (node - nn0)*dim + c. */
+int64_t aug_cut_index(const aug_mesh *m, int64_t nn0, const int32_t *map0, int64_t nfree0,
+                      int64_t node, int c);
+/* The UPDT of mesh delta d applied to mesh `before` (eq. 3.1): H = matrix indices
+   of the old DOFs touched by changed elements, k = dim * d->nnew, E = -(K_t - K_{t-1})
+   on Hbar (new-new block relative to the identity padding), df on Hbar. */
+int aug_update_build(const aug_mesh *before, const aug_mdelta *d, int64_t nn0,
+                     const int32_t *map0, int64_t nfree0, aug_update *u, aug_err *e);
+
 #endif

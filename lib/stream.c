@@ -30,6 +30,7 @@ static const aug_rectype table[] = {
     {"cOND", 24, 1 << 20, 2, 0, 0},
     {"MDLT", 32, AUG_MAX_BODY, 3, 0, 1},
     {"UPDT", 8, AUG_MAX_BODY, 3, 0, 1},
+    {"pATH", 16, AUG_MAX_BODY, 3, 0, 1},
     {"fELD", 24, AUG_MAX_BODY, 3, 0, 1},
     {"sTAt", 24, 1 << 20, 3, 0, 1},
     {"tIMe", 24, 1 << 20, 3, 0, 1},
