@@ -115,12 +115,12 @@ bench: deps
 	@sh bench/run.sh
 
 FUZZ_TIME ?= 60
-fuzz: deps
+fuzz: deps $(B)/tests/stream_io
 	@mkdir -p $(B)/fuzz/corpus
-	clang -std=c11 -g -O1 -D_GNU_SOURCE -Ilib -fsanitize=fuzzer,address,undefined \
+	AUG_WRITE_SEED=$(B)/fuzz/corpus/seed_all_records.aug $(B)/tests/stream_io
+	clang -std=c11 -g -O1 -D_GNU_SOURCE -Ilib -I/usr/include/suitesparse -fsanitize=fuzzer,address,undefined \
 	  -o $(B)/fuzz/fuzz_stream fuzz/fuzz_stream.c lib/stream.c lib/buf.c lib/error.c lib/mesh.c \
-	  lib/quality.c lib/update.c -lz -lm
-	cp -n tests/data/*.aug $(B)/fuzz/corpus/ 2>/dev/null || true
+	  lib/quality.c lib/update.c lib/kv.c -lz -lm
 	$(B)/fuzz/fuzz_stream -max_total_time=$(FUZZ_TIME) -rss_limit_mb=2048 $(B)/fuzz/corpus
 
 clean:

@@ -91,6 +91,10 @@ aug_reader *aug_reader_open(FILE *f, const char *name, aug_err *e);
 int aug_read(aug_reader *r, aug_rec *rec, aug_err *e);
 /* The upstream HEAD's producer string and minor version. */
 const char *aug_reader_producer(const aug_reader *r);
+/* The HEAD record as read: minor version, flags, payload length (inflated) and
+   wire length (length|type|body|crc). */
+void aug_reader_head(const aug_reader *r, uint32_t *minor, uint32_t *flags, uint64_t *len,
+                     uint64_t *wirelen);
 long aug_reader_count(const aug_reader *r);  /* records read so far */
 void aug_reader_free(aug_reader *r);
 void aug_rec_free(aug_rec *rec);             /* frees buffers, not rec itself */

@@ -10,6 +10,9 @@ const unsigned char aug_signature[8] = {0x89, 'A', 'U', 'G', '\r', '\n', 0x1a, '
    any mesh this tool chain handles, small enough to catch garbage lengths). */
 #define AUG_MAX_BODY ((uint64_t)1 << 40)
 #define BODY_HDR 16u /* flags u32, step i32, rawlen u64 */
+#define READ_CHUNK ((uint64_t)1 << 24)
+/* zlib cannot expand by more than about 1032:1 */
+#define MAX_INFLATE_RATIO 1040u
 
 /* One row per record type: inflated payload bounds, phase, multiplicity.
    formats/stream.md section "Record table" is the normative copy. */
@@ -113,6 +116,8 @@ struct aug_reader {
     unsigned seen_once[sizeof table / sizeof table[0]];
     char producer[256];
     uint32_t minor;
+    uint32_t head_flags;   /* HEAD as read, for stats */
+    uint64_t head_len, head_wirelen;
     int done;
 };
 
@@ -194,14 +199,23 @@ static int read_record(aug_reader *r, aug_rec *rec, aug_err *e)
         return aug_err_set(e, AUG_ELEN, r->count, rec->type, "impossible record length %llu",
                            (unsigned long long)blen);
     uint64_t wl = 12 + blen + 4;
-    if (!grow(&rec->wire, &rec->cap_wire, wl))
-        return aug_err_set(e, AUG_ENOMEM, r->count, rec->type, "out of memory (%llu bytes)",
-                           (unsigned long long)wl);
+    /* grow with the data actually read, so a damaged length fails at EOF
+       instead of allocating what it claims */
+    uint64_t have = 12;
+    if (!grow(&rec->wire, &rec->cap_wire, 12))
+        return aug_err_set(e, AUG_ENOMEM, r->count, rec->type, "out of memory");
     memcpy(rec->wire, hdr, 12);
-    if (!read_full(r->f, rec->wire + 12, blen + 4))
-        return aug_err_set(e, ferror(r->f) ? AUG_EIO : AUG_ETRUNC, r->count, rec->type,
-                           "stream ends inside the record (%llu bytes announced)",
-                           (unsigned long long)blen);
+    while (have < wl) {
+        uint64_t chunk = wl - have < READ_CHUNK ? wl - have : READ_CHUNK;
+        if (!grow(&rec->wire, &rec->cap_wire, have + chunk))
+            return aug_err_set(e, AUG_ENOMEM, r->count, rec->type, "out of memory (%llu bytes)",
+                               (unsigned long long)wl);
+        if (!read_full(r->f, rec->wire + have, (size_t)chunk))
+            return aug_err_set(e, ferror(r->f) ? AUG_EIO : AUG_ETRUNC, r->count, rec->type,
+                               "stream ends inside the record (%llu bytes announced)",
+                               (unsigned long long)blen);
+        have += chunk;
+    }
     rec->wirelen = wl;
     uint32_t crc = crc_update((uint32_t)crc32(0, Z_NULL, 0), rec->wire + 8, 4 + blen);
     if (crc != get_u32(rec->wire + 12 + blen))
@@ -214,7 +228,7 @@ static int read_record(aug_reader *r, aug_rec *rec, aug_err *e)
         return aug_err_set(e, AUG_EPAYLOAD, r->count, rec->type, "unknown flags 0x%x",
                            (unsigned)rec->flags);
     if (rec->flags & AUG_FLAG_DEFLATE) {
-        if (rawlen > AUG_MAX_BODY)
+        if (rawlen > AUG_MAX_BODY || rawlen / MAX_INFLATE_RATIO > blen)
             return aug_err_set(e, AUG_ELEN, r->count, rec->type,
                                "impossible inflated length %llu", (unsigned long long)rawlen);
         if (inflate_payload(rec, body + BODY_HDR, blen - BODY_HDR, rawlen, e)) return e->code;
@@ -318,6 +332,9 @@ aug_reader *aug_reader_open(FILE *f, const char *name, aug_err *e)
         goto fail;
     }
     r->minor = minor;
+    r->head_flags = rec.flags;
+    r->head_len = rec.len;
+    r->head_wirelen = rec.wirelen;
     size_t pl = rec.len - 8 < sizeof r->producer - 1 ? rec.len - 8 : sizeof r->producer - 1;
     memcpy(r->producer, rec.data + 8, pl);
     r->producer[pl] = 0;
@@ -351,6 +368,14 @@ int aug_read(aug_reader *r, aug_rec *rec, aug_err *e)
 }
 
 const char *aug_reader_producer(const aug_reader *r) { return r->producer; }
+void aug_reader_head(const aug_reader *r, uint32_t *minor, uint32_t *flags, uint64_t *len,
+                     uint64_t *wirelen)
+{
+    *minor = r->minor;
+    *flags = r->head_flags;
+    *len = r->head_len;
+    *wirelen = r->head_wirelen;
+}
 long aug_reader_count(const aug_reader *r) { return r->count; }
 void aug_reader_free(aug_reader *r) { free(r); }
 

@@ -1,0 +1,182 @@
+/* FACT record: CHOLMOD's packed simplicial LDL' factor P K P' = L D L' and its
+   reconstruction as a cholmod_factor (formats/stream.md 6.4). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "aug_fem.h"
+
+#define DATA(...) aug_err_set(e, AUG_EDATA, rec->index, rec->type, __VA_ARGS__)
+
+static int cmp_pair(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Write the columns of a simplicial LDL' factor S: column j = D(j,j) at row j,
+   then the rows of L(:,j) below the diagonal, increasing. */
+static int write_simplicial(aug_writer *w, const cholmod_factor *S, aug_err *e)
+{
+    long idx = aug_writer_count(w);
+    int64_t n = (int64_t)S->n;
+    const int *Sp = S->p, *Si = S->i, *Snz = S->nz, *Perm = S->Perm;
+    const double *Sx = S->x;
+    int64_t *cp = aug_malloc((size_t)(n + 1) * sizeof *cp);
+    if (!cp) return aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory");
+    cp[0] = 0;
+    int unsorted = 0, maxcol = 0;
+    for (int64_t j = 0; j < n; j++) {
+        cp[j + 1] = cp[j] + Snz[j];
+        if (Snz[j] > maxcol) maxcol = Snz[j];
+        if (Snz[j] < 1 || Si[Sp[j]] != j) unsorted = 1;
+        for (int q = Sp[j] + 1; q < Sp[j] + Snz[j]; q++)
+            if (Si[q] <= Si[q - 1]) unsorted = 1;
+    }
+    aug_buf b;
+    aug_buf_init(&b);
+    aug_buf_i64(&b, n);
+    aug_buf_i64(&b, cp[n]);
+    aug_buf_i32(&b, S->ordering);
+    aug_buf_i32(&b, 0);
+    aug_buf_i32v(&b, Perm, (size_t)n);
+    aug_buf_i64v(&b, cp, (size_t)n + 1);
+    free(cp);
+    if (!unsorted) {
+        for (int64_t j = 0; j < n; j++) aug_buf_i32v(&b, Si + Sp[j], (size_t)Snz[j]);
+        for (int64_t j = 0; j < n; j++) aug_buf_f64v(&b, Sx + Sp[j], (size_t)Snz[j]);
+    } else { /* after row updates a column may be out of order: sort (row, position) */
+        int *key = aug_malloc((size_t)(maxcol ? maxcol : 1) * 2 * sizeof *key);
+        if (!key) {
+            aug_buf_free(&b);
+            return aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory");
+        }
+        for (int pass = 0; pass < 2; pass++)
+            for (int64_t j = 0; j < n; j++) {
+                for (int q = 0; q < Snz[j]; q++)
+                    key[2 * q] = Si[Sp[j] + q], key[2 * q + 1] = Sp[j] + q;
+                qsort(key, (size_t)Snz[j], 2 * sizeof *key, cmp_pair);
+                for (int q = 0; q < Snz[j]; q++) {
+                    if (pass == 0) aug_buf_i32(&b, key[2 * q]);
+                    else aug_buf_f64(&b, Sx[key[2 * q + 1]]);
+                }
+            }
+        free(key);
+    }
+    int rc = b.failed ? aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory")
+                      : aug_write(w, "FACT", AUG_NOSTEP, b.p, b.len, e);
+    aug_buf_free(&b);
+    return rc;
+}
+
+/* A supernodal or LL' factor is copied and converted (cholmod_change_factor to
+   simplicial LDL'); the caller's L is not changed. */
+int aug_write_factor(aug_writer *w, const cholmod_factor *L, cholmod_common *cm,
+                     aug_err *e)
+{
+    aug_err_clear(e);
+    long idx = aug_writer_count(w);
+    if (L->xtype != CHOLMOD_REAL || L->itype != CHOLMOD_INT || L->minor < L->n)
+        return aug_err_set(e, AUG_EUSAGE, idx, "FACT",
+                           "factor must be numeric, real, int-indexed and complete");
+    if (!L->is_super && !L->is_ll) return write_simplicial(w, L, e);
+    cholmod_factor *S = cholmod_copy_factor((cholmod_factor *)L, cm);
+    if (!S || !cholmod_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, S, cm)) {
+        cholmod_free_factor(&S, cm);
+        return aug_err_set(e, AUG_ENOMEM, idx, "FACT",
+                           "converting the factor to simplicial LDL' failed (CHOLMOD status %d)",
+                           cm->status);
+    }
+    int rc = write_simplicial(w, S, e);
+    cholmod_free_factor(&S, cm);
+    return rc;
+}
+
+/* Validate the payload, then: cholmod_allocate_factor (symbolic simplicial),
+   Perm and ColCount from the record, cholmod_change_factor to a packed
+   simplicial LDL' numeric factor, and p, i, x, nz filled from the record. */
+cholmod_factor *aug_read_factor(const aug_rec *rec, cholmod_common *cm, aug_err *e)
+{
+    aug_err_clear(e);
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int64_t n = aug_cur_i64(&c), nnz = aug_cur_i64(&c);
+    int32_t ordering = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    if (!c.ok || n < 0 || n >= INT32_MAX || nnz < n || nnz > INT32_MAX ||
+        !aug_cur_has(&c, (uint64_t)n, 12) ||
+        c.len - c.pos != (uint64_t)n * 4 + ((uint64_t)n + 1) * 8 + (uint64_t)nnz * 12) {
+        aug_err_set(e, AUG_EPAYLOAD, rec->index, rec->type,
+                    "sizes n = %lld, nnz = %lld do not match the payload", (long long)n,
+                    (long long)nnz);
+        return NULL;
+    }
+    int32_t *perm = aug_malloc((size_t)(n ? n : 1) * sizeof *perm);
+    int64_t *cp = aug_malloc((size_t)(n + 1) * sizeof *cp);
+    char *seen = aug_calloc((size_t)(n ? n : 1), 1);
+    cholmod_factor *L = NULL;
+    if (!perm || !cp || !seen) {
+        aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+        goto fail;
+    }
+    aug_cur_i32v(&c, perm, (uint64_t)n);
+    for (int64_t j = 0; j < n; j++) {
+        if (perm[j] < 0 || perm[j] >= n || seen[perm[j]]) {
+            DATA("perm[%lld] = %d: not a permutation", (long long)j, (int)perm[j]);
+            goto fail;
+        }
+        seen[perm[j]] = 1;
+    }
+    aug_cur_i64v(&c, cp, (uint64_t)n + 1);
+    if (cp[0] != 0 || cp[n] != nnz) {
+        DATA("column pointers do not span 0..%lld", (long long)nnz);
+        goto fail;
+    }
+    for (int64_t j = 0; j < n; j++)
+        if (cp[j + 1] - cp[j] < 1 || cp[j + 1] - cp[j] > n - j) {
+            DATA("column %lld has %lld entries", (long long)j, (long long)(cp[j + 1] - cp[j]));
+            goto fail;
+        }
+    L = cholmod_allocate_factor((size_t)n, cm);
+    if (!L) {
+        aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory (CHOLMOD)");
+        goto fail;
+    }
+    L->ordering = ordering;
+    int *Perm = L->Perm, *CC = L->ColCount;
+    for (int64_t j = 0; j < n; j++) Perm[j] = perm[j], CC[j] = (int)(cp[j + 1] - cp[j]);
+    if (!cholmod_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, L, cm) ||
+        (L->nzmax < (size_t)nnz && !cholmod_reallocate_factor((size_t)nnz, L, cm))) {
+        aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory (CHOLMOD status %d)",
+                    cm->status);
+        goto fail;
+    }
+    int *Lp = L->p, *Li = L->i, *Lnz = L->nz;
+    double *Lx = L->x;
+    for (int64_t j = 0; j <= n; j++) Lp[j] = (int)cp[j];
+    for (int64_t j = 0; j < n; j++) Lnz[j] = (int)(cp[j + 1] - cp[j]);
+    aug_cur_i32v(&c, Li, (uint64_t)nnz);
+    aug_cur_f64v(&c, Lx, (uint64_t)nnz);
+    for (int64_t j = 0; j < n; j++) {
+        if (Li[Lp[j]] != j || !isfinite(Lx[Lp[j]]) || Lx[Lp[j]] == 0) {
+            DATA("column %lld does not start with a finite nonzero D(j,j)", (long long)j);
+            goto fail;
+        }
+        for (int q = Lp[j] + 1; q < Lp[j + 1]; q++)
+            if (Li[q] <= Li[q - 1] || Li[q] >= n || !isfinite(Lx[q])) {
+                DATA("column %lld: row %d out of order or range, or value not finite",
+                     (long long)j, Li[q]);
+                goto fail;
+            }
+    }
+    L->minor = (size_t)n;
+    free(perm);
+    free(cp);
+    free(seen);
+    return L;
+fail:
+    cholmod_free_factor(&L, cm);
+    free(perm);
+    free(cp);
+    free(seen);
+    return NULL;
+}

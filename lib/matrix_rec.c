@@ -1,0 +1,233 @@
+/* Matrix-phase records DOFM (DOF numbering), KMAT (sparse symmetric matrix) and
+   FVEC (vector over the free DOFs), formats/stream.md 6.1-6.3. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "aug_fem.h"
+
+#define BAD(...) aug_err_set(e, AUG_EPAYLOAD, rec->index, rec->type, __VA_ARGS__)
+#define DATA(...) aug_err_set(e, AUG_EDATA, rec->index, rec->type, __VA_ARGS__)
+#define NOMEM() aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory")
+
+static int put(aug_writer *w, const char *type, int32_t step, aug_buf *b, aug_err *e)
+{
+    int rc = b->failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), type, "out of memory")
+                       : aug_write(w, type, step, b->p, b->len, e);
+    aug_buf_free(b);
+    return rc;
+}
+
+/* DOFM: i32 dim, i32 0, i64 ndof, i64 nfree, i32 map[ndof] */
+int aug_write_dofmap(aug_writer *w, const aug_mesh *m, const int32_t *map, int64_t nfree,
+                     aug_err *e)
+{
+    aug_err_clear(e);
+    aug_buf b;
+    aug_buf_init(&b);
+    int64_t nd = m->nn * m->dim;
+    aug_buf_i32(&b, m->dim);
+    aug_buf_i32(&b, 0);
+    aug_buf_i64(&b, nd);
+    aug_buf_i64(&b, nfree);
+    aug_buf_i32v(&b, map, (size_t)nd);
+    return put(w, "DOFM", AUG_NOSTEP, &b, e);
+}
+
+/* map[dof] in {-1} u {0..nfree-1}, the free indices 0, 1, 2, ... in dof order */
+int aug_read_dofmap(const aug_rec *rec, int *dim, int64_t *ndof, int64_t *nfree,
+                    int32_t **map, aug_err *e)
+{
+    aug_err_clear(e);
+    *map = NULL;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t d = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    int64_t nd = aug_cur_i64(&c), nf = aug_cur_i64(&c);
+    if (!c.ok || (d != 2 && d != 3)) return BAD("dimension %d is neither 2 nor 3", (int)d);
+    if (nd < 0 || nd > INT32_MAX || nd % d || c.len - c.pos != (uint64_t)nd * 4)
+        return BAD("dof count %lld does not match the payload", (long long)nd);
+    if (nf < 0 || nf > nd) return BAD("free dof count %lld of %lld", (long long)nf, (long long)nd);
+    int32_t *mp = aug_malloc((size_t)nd * sizeof *mp);
+    if (!mp) return NOMEM();
+    aug_cur_i32v(&c, mp, (uint64_t)nd);
+    int64_t k = 0;
+    for (int64_t i = 0; i < nd; i++) {
+        if (mp[i] == -1) continue;
+        if (mp[i] != k) {
+            free(mp);
+            return DATA("dof %lld maps to %d, expected -1 or %lld", (long long)i, (int)mp[i],
+                        (long long)k);
+        }
+        k++;
+    }
+    if (k != nf) {
+        free(mp);
+        return DATA("map numbers %lld free dofs, header says %lld", (long long)k, (long long)nf);
+    }
+    *dim = d;
+    *ndof = nd;
+    *nfree = nf;
+    *map = mp;
+    return 0;
+}
+
+static int cmp_i32(const void *a, const void *b)
+{
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* KMAT: i32 which, i32 stype, i64 n, i64 nnz, i64 colptr[n+1], i32 rowind[nnz],
+   f64 value[nnz]; columns written with rows increasing (sorted here if A is not). */
+int aug_write_sparse(aug_writer *w, int which, const cholmod_sparse *A, aug_err *e)
+{
+    aug_err_clear(e);
+    long idx = aug_writer_count(w);
+    if (A->itype != CHOLMOD_INT || A->xtype != CHOLMOD_REAL || A->dtype != CHOLMOD_DOUBLE ||
+        A->nrow != A->ncol || A->stype != 1)
+        return aug_err_set(e, AUG_EUSAGE, idx, "KMAT",
+                           "matrix must be real, square, int-indexed, upper triangle stored");
+    const int *Ap = A->p, *Ai = A->i, *Anz = A->nz;
+    const double *Ax = A->x;
+    int64_t n = (int64_t)A->ncol, nnz = 0;
+    int64_t *cp = aug_malloc((size_t)(n + 1) * sizeof *cp);
+    if (!cp) return aug_err_set(e, AUG_ENOMEM, idx, "KMAT", "out of memory");
+    cp[0] = 0;
+    size_t maxcol = 0;
+    for (int64_t j = 0; j < n; j++) {
+        int64_t len = A->packed ? Ap[j + 1] - Ap[j] : Anz[j];
+        if ((size_t)len > maxcol) maxcol = (size_t)len;
+        cp[j + 1] = cp[j] + len;
+    }
+    nnz = cp[n];
+    aug_buf b;
+    aug_buf_init(&b);
+    aug_buf_i32(&b, which);
+    aug_buf_i32(&b, 1);
+    aug_buf_i64(&b, n);
+    aug_buf_i64(&b, nnz);
+    aug_buf_i64v(&b, cp, (size_t)n + 1);
+    free(cp);
+    if (A->sorted) {
+        for (int64_t j = 0; j < n; j++)
+            aug_buf_i32v(&b, Ai + Ap[j], (size_t)(A->packed ? Ap[j + 1] - Ap[j] : Anz[j]));
+        for (int64_t j = 0; j < n; j++)
+            aug_buf_f64v(&b, Ax + Ap[j], (size_t)(A->packed ? Ap[j + 1] - Ap[j] : Anz[j]));
+        return put(w, "KMAT", AUG_NOSTEP, &b, e);
+    }
+    /* unsorted: sort (row, position) keys per column; rows pass, then values pass */
+    int32_t *key = aug_malloc((maxcol ? maxcol : 1) * 2 * sizeof *key);
+    if (!key) {
+        aug_buf_free(&b);
+        return aug_err_set(e, AUG_ENOMEM, idx, "KMAT", "out of memory");
+    }
+    for (int pass = 0; pass < 2; pass++)
+        for (int64_t j = 0; j < n; j++) {
+            int len = A->packed ? Ap[j + 1] - Ap[j] : Anz[j];
+            for (int q = 0; q < len; q++) key[2 * q] = Ai[Ap[j] + q], key[2 * q + 1] = Ap[j] + q;
+            qsort(key, (size_t)len, 2 * sizeof *key, cmp_i32);
+            for (int q = 0; q < len; q++) {
+                if (pass == 0) aug_buf_i32(&b, key[2 * q]);
+                else aug_buf_f64(&b, Ax[key[2 * q + 1]]);
+            }
+        }
+    free(key);
+    return put(w, "KMAT", AUG_NOSTEP, &b, e);
+}
+
+cholmod_sparse *aug_read_sparse(const aug_rec *rec, int *which, cholmod_common *cm,
+                                aug_err *e)
+{
+    aug_err_clear(e);
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t wh = aug_cur_i32(&c), stype = aug_cur_i32(&c);
+    int64_t n = aug_cur_i64(&c), nnz = aug_cur_i64(&c);
+    if (!c.ok || wh < AUG_MAT_K || wh > AUG_MAT_ML) {
+        BAD("unknown matrix kind %d", (int)wh);
+        return NULL;
+    }
+    if (stype != 1) {
+        BAD("stype %d: only the upper triangle (1) is defined", (int)stype);
+        return NULL;
+    }
+    if (n < 0 || n >= INT32_MAX || nnz < 0 || nnz > INT32_MAX ||
+        !aug_cur_has(&c, (uint64_t)n + 1, 8) ||
+        c.len - c.pos != ((uint64_t)n + 1) * 8 + (uint64_t)nnz * 12) {
+        BAD("sizes n = %lld, nnz = %lld do not match the payload", (long long)n, (long long)nnz);
+        return NULL;
+    }
+    cholmod_sparse *A = cholmod_allocate_sparse((size_t)n, (size_t)n, (size_t)nnz, 1, 1, 1,
+                                                CHOLMOD_REAL, cm);
+    if (!A) {
+        NOMEM();
+        return NULL;
+    }
+    int *Ap = A->p, *Ai = A->i;
+    double *Ax = A->x;
+    for (int64_t j = 0; j <= n; j++) {
+        int64_t v = aug_cur_i64(&c);
+        if ((j == 0 && v != 0) || (j > 0 && (v < Ap[j - 1] || v > nnz)) || (j == n && v != nnz)) {
+            DATA("column pointer %lld = %lld is out of order", (long long)j, (long long)v);
+            cholmod_free_sparse(&A, cm);
+            return NULL;
+        }
+        Ap[j] = (int)v;
+    }
+    aug_cur_i32v(&c, Ai, (uint64_t)nnz);
+    aug_cur_f64v(&c, Ax, (uint64_t)nnz);
+    for (int64_t j = 0; j < n; j++)
+        for (int p = Ap[j]; p < Ap[j + 1]; p++) {
+            const char *why = NULL;
+            if (Ai[p] < 0 || Ai[p] > j) why = "outside the upper triangle";
+            else if (p > Ap[j] && Ai[p] <= Ai[p - 1]) why = "not increasing in its column";
+            else if (!isfinite(Ax[p])) why = "not finite";
+            if (why) {
+                DATA("entry (%d, %lld) is %s", (int)Ai[p], (long long)j, why);
+                cholmod_free_sparse(&A, cm);
+                return NULL;
+            }
+        }
+    if (which) *which = wh;
+    return A;
+}
+
+/* TYPE: i32 kind, i32 0, i64 n, f64 v[n] (FVEC and vectors of the same layout) */
+int aug_write_vector(aug_writer *w, const char *type, int32_t step, int32_t kind,
+                     const double *v, int64_t n, aug_err *e)
+{
+    aug_err_clear(e);
+    aug_buf b;
+    aug_buf_init(&b);
+    aug_buf_i32(&b, kind);
+    aug_buf_i32(&b, 0);
+    aug_buf_i64(&b, n);
+    aug_buf_f64v(&b, v, (size_t)n);
+    return put(w, type, step, &b, e);
+}
+
+int aug_read_vector(const aug_rec *rec, int32_t *kind, int64_t *n, double **v, aug_err *e)
+{
+    aug_err_clear(e);
+    *v = NULL;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t k = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    int64_t len = aug_cur_i64(&c);
+    if (!c.ok || len < 0 || len > INT32_MAX || c.len - c.pos != (uint64_t)len * 8)
+        return BAD("vector length %lld does not match the payload", (long long)len);
+    double *x = aug_malloc((size_t)len * sizeof *x);
+    if (!x) return NOMEM();
+    aug_cur_f64v(&c, x, (uint64_t)len);
+    for (int64_t i = 0; i < len; i++)
+        if (!isfinite(x[i])) {
+            free(x);
+            return DATA("entry %lld is not finite", (long long)i);
+        }
+    *kind = k;
+    *n = len;
+    *v = x;
+    return 0;
+}
