@@ -39,6 +39,7 @@ typedef struct aug_err {
     long record;       /* 0-based index of the record in its stream, -1 if none */
     char type[5];      /* its 4-letter type, "" if none */
     char msg[256];
+    int output;        /* 1 when the error concerns the output stream */
 } aug_err;
 
 void aug_err_clear(aug_err *e);
@@ -78,6 +79,8 @@ typedef struct aug_rectype {
     int perstep;               /* carries a step number >= 0 */
 } aug_rectype;
 const aug_rectype *aug_rectype_find(const char *type);
+/* The i-th row of the record table, NULL past its end. */
+const aug_rectype *aug_rectype_at(size_t i);
 
 typedef struct aug_reader aug_reader;
 typedef struct aug_writer aug_writer;

@@ -11,6 +11,7 @@ void aug_err_clear(aug_err *e)
     e->record = -1;
     e->type[0] = 0;
     e->msg[0] = 0;
+    e->output = 0;
 }
 
 int aug_err_set(aug_err *e, int code, long record, const char *type, const char *fmt, ...)
@@ -18,6 +19,7 @@ int aug_err_set(aug_err *e, int code, long record, const char *type, const char 
     if (!e) return code;
     e->code = code;
     e->record = record;
+    e->output = 0;
     snprintf(e->type, sizeof e->type, "%s", type ? type : "");
     va_list ap;
     va_start(ap, fmt);

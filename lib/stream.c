@@ -49,6 +49,11 @@ const aug_rectype *aug_rectype_find(const char *type)
     return NULL;
 }
 
+const aug_rectype *aug_rectype_at(size_t i)
+{
+    return i < sizeof table / sizeof table[0] ? &table[i] : NULL;
+}
+
 int aug_type_critical(const char *type) { return type[0] >= 'A' && type[0] <= 'Z'; }
 int aug_type_safe_to_copy(const char *type) { return type[3] >= 'a' && type[3] <= 'z'; }
 
@@ -398,7 +403,9 @@ static int write_bytes(aug_writer *w, const void *p, size_t n, aug_err *e)
 {
     if (n && fwrite(p, 1, n, w->f) != n) {
         w->failed = 1;
-        return aug_err_set(e, AUG_EIO, w->count, "", "write failed");
+        aug_err_set(e, AUG_EIO, w->count, "", "write failed");
+        e->output = 1;
+        return AUG_EIO;
     }
     return 0;
 }
@@ -456,7 +463,11 @@ int aug_write(aug_writer *w, const char *type, int32_t step, const void *payload
     aug_err_clear(e);
     if (!type_wellformed(type) || len > AUG_MAX_BODY - BODY_HDR)
         return aug_err_set(e, AUG_EUSAGE, w->count, "", "bad record type or length");
-    if (w->failed) return aug_err_set(e, AUG_EIO, w->count, type, "earlier write failed");
+    if (w->failed) {
+        aug_err_set(e, AUG_EIO, w->count, type, "earlier write failed");
+        e->output = 1;
+        return AUG_EIO;
+    }
     if (w->deflate_min && len >= w->deflate_min && len < ((uint64_t)1 << 31)) {
         uLongf zl = compressBound((uLong)len);
         unsigned char *z = aug_malloc(zl ? zl : 1);
@@ -479,7 +490,11 @@ int aug_write(aug_writer *w, const char *type, int32_t step, const void *payload
 int aug_write_rec(aug_writer *w, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
-    if (w->failed) return aug_err_set(e, AUG_EIO, w->count, rec->type, "earlier write failed");
+    if (w->failed) {
+        aug_err_set(e, AUG_EIO, w->count, rec->type, "earlier write failed");
+        e->output = 1;
+        return AUG_EIO;
+    }
     if (write_bytes(w, rec->wire, rec->wirelen, e)) return e->code;
     w->count++;
     return 0;
@@ -508,7 +523,9 @@ int aug_writer_close(aug_writer *w, aug_err *e)
     if (write_body(w, "TAIL", 0, AUG_NOSTEP, 8, n, 8, e)) return e->code;
     if (fflush(w->f) != 0) {
         w->failed = 1;
-        return aug_err_set(e, AUG_EIO, w->count, "TAIL", "flush failed");
+        aug_err_set(e, AUG_EIO, w->count, "TAIL", "flush failed");
+        e->output = 1;
+        return AUG_EIO;
     }
     return 0;
 }

@@ -38,7 +38,7 @@ void aug_tool_usage_done(aug_tool *t, const char *synopsis)
 void aug_tool_fail(aug_tool *t, const aug_err *e)
 {
     const char *where = t->inname;
-    if (e->code == AUG_EIO && t->w && e->msg[0] == 'w') where = "<stdout>";
+    if (e->output) where = "<stdout>";
     if (e->record >= 0)
         fprintf(stderr, "%s: %s: record %ld (%s): %s\n", t->prog, where, e->record,
                 e->type[0] ? e->type : "?", e->msg);
