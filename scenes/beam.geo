@@ -1,21 +1,12 @@
 // The AMPS paper's cantilever beam: nodes on a regular 5 x 5 x h grid (unit
-// spacing), i.e. 4 x 4 x (h-1) hex cells, each split into 6 tets; axis along z.
-// gmsh -3 -setnumber h 16 beam.geo   (h = 4, 16, 64, 256, 1024)
+// spacing, exact integer coordinates), i.e. 4 x 4 x (h-1) cubic cells, each
+// split into 6 tets by extrusion; axis along z, fixed at z = 0.
+// gmsh -3 -setnumber h 16 beam.geo   (h = 4, 16, 64, 256, 1024: 25 h nodes)
 If (!Exists(h)) h = 16; EndIf
 Point(1) = {0, 0, 0};
-Point(2) = {4, 0, 0};
-Point(3) = {4, 4, 0};
-Point(4) = {0, 4, 0};
-Line(1) = {1, 2};
-Line(2) = {2, 3};
-Line(3) = {3, 4};
-Line(4) = {4, 1};
-Curve Loop(1) = {1, 2, 3, 4};
-Plane Surface(1) = {1};
-Transfinite Curve{1, 2, 3, 4} = 5;
-Transfinite Surface{1} = {1, 2, 3, 4} Left;
-// each layer of prisms (2 per square) is split into 3 tets by the extrusion
-out[] = Extrude {0, 0, h - 1} { Surface{1}; Layers{h - 1}; };
-Physical Surface("fixed", 1) = {1};
-Physical Surface("tip", 2) = {out[0]};
-Physical Volume("beam", 3) = {out[1]};
+l[] = Extrude {4, 0, 0} { Point{1}; Layers{4}; };
+s[] = Extrude {0, 4, 0} { Curve{l[1]}; Layers{4}; };
+v[] = Extrude {0, 0, h - 1} { Surface{s[1]}; Layers{h - 1}; };
+Physical Surface("fixed", 1) = {s[1]};
+Physical Surface("tip", 2) = {v[0]};
+Physical Volume("beam", 3) = {v[1]};

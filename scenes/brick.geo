@@ -1,19 +1,11 @@
-// A 1 x 1 x 2 brick of N x N x 2N cubic cells, each split into 6 tets.
+// A 1 x 1 x 2 brick of N x N x 2N cubic cells, each split into 6 tets by
+// extrusion; fixed at z = 0, loaded at z = 2.
 // gmsh -3 -setnumber N 8 brick.geo   (N = 4, 8, 12, 16, 20: (N+1)^2 (2N+1) nodes)
 If (!Exists(N)) N = 8; EndIf
 Point(1) = {0, 0, 0};
-Point(2) = {1, 0, 0};
-Point(3) = {1, 1, 0};
-Point(4) = {0, 1, 0};
-Line(1) = {1, 2};
-Line(2) = {2, 3};
-Line(3) = {3, 4};
-Line(4) = {4, 1};
-Curve Loop(1) = {1, 2, 3, 4};
-Plane Surface(1) = {1};
-Transfinite Curve{1, 2, 3, 4} = N + 1;
-Transfinite Surface{1} = {1, 2, 3, 4} Left;
-out[] = Extrude {0, 0, 2} { Surface{1}; Layers{2 * N}; };
-Physical Surface("fixed", 1) = {1};
-Physical Surface("top", 2) = {out[0]};
-Physical Volume("brick", 3) = {out[1]};
+l[] = Extrude {1, 0, 0} { Point{1}; Layers{N}; };
+s[] = Extrude {0, 1, 0} { Curve{l[1]}; Layers{N}; };
+v[] = Extrude {0, 0, 2} { Surface{s[1]}; Layers{2 * N}; };
+Physical Surface("fixed", 1) = {s[1]};
+Physical Surface("top", 2) = {v[0]};
+Physical Volume("brick", 3) = {v[1]};
