@@ -59,11 +59,12 @@ typedef struct aug_rec {
     uint32_t flags;
     int32_t step;
     long index;                /* 0-based index in the stream it came from */
-    unsigned char *data;       /* inflated payload */
+    unsigned char *data;       /* inflated payload (points into wire or zbuf) */
     uint64_t len;              /* its length */
     unsigned char *wire;       /* length|type|body|crc exactly as read */
     uint64_t wirelen;
-    size_t cap_data, cap_wire; /* internal buffer capacities */
+    unsigned char *zbuf;       /* inflation buffer, owned */
+    size_t cap_data, cap_wire; /* internal buffer capacities (zbuf, wire) */
 } aug_rec;
 
 /* Property bits carried by the letter case of a type. */
@@ -177,5 +178,8 @@ void aug_fail_after(long n);
 void *aug_malloc(size_t n);
 void *aug_calloc(size_t n, size_t size);
 void *aug_realloc(void *p, size_t n);
+/* Resize a buffer holding `used` bytes to at least n; large buffers are
+   2 MiB-aligned and advised for transparent huge pages (fewer page faults). */
+void *aug_regrow(void *p, size_t used, size_t n);
 
 #endif

@@ -2,6 +2,7 @@
    allocation hook used for failure-injection tests. */
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include "aug_stream.h"
 
 static long fail_countdown = -1;
@@ -21,6 +22,24 @@ void *aug_malloc(size_t n) { return fail_now() ? NULL : malloc(n ? n : 1); }
 void *aug_calloc(size_t n, size_t size) { return fail_now() ? NULL : calloc(n ? n : 1, size ? size : 1); }
 void *aug_realloc(void *p, size_t n) { return fail_now() ? NULL : realloc(p, n ? n : 1); }
 
+#define BIG ((size_t)4 << 20)
+#define HUGE_PAGE ((size_t)2 << 20)
+
+void *aug_regrow(void *p, size_t used, size_t n)
+{
+    if (n < BIG) return aug_realloc(p, n);
+    if (fail_now()) return NULL;
+    void *q = NULL;
+    size_t nc = (n + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
+    if (posix_memalign(&q, HUGE_PAGE, nc) != 0) return NULL;
+#ifdef MADV_HUGEPAGE
+    madvise(q, nc, MADV_HUGEPAGE);
+#endif
+    if (used) memcpy(q, p, used);
+    free(p);
+    return q;
+}
+
 void aug_buf_init(aug_buf *b) { memset(b, 0, sizeof *b); }
 void aug_buf_free(aug_buf *b)
 {
@@ -34,7 +53,7 @@ void aug_buf_put(aug_buf *b, const void *src, size_t n)
     if (b->len + n > b->cap) {
         size_t nc = b->cap ? b->cap : 256;
         while (nc < b->len + n) nc *= 2;
-        unsigned char *q = aug_realloc(b->p, nc);
+        unsigned char *q = aug_regrow(b->p, b->len, nc);
         if (!q) {
             b->failed = 1;
             return;

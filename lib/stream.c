@@ -32,6 +32,7 @@ static const aug_rectype table[] = {
     {"FACT", 24, AUG_MAX_BODY, 2, 1, 0},
     {"cOND", 24, 1 << 20, 2, 0, 0},
     {"MDLT", 32, AUG_MAX_BODY, 3, 0, 1},
+    {"BDLT", 16, AUG_MAX_BODY, 3, 0, 1},
     {"UPDT", 8, AUG_MAX_BODY, 3, 0, 1},
     {"pATH", 16, AUG_MAX_BODY, 3, 0, 1},
     {"fELD", 24, AUG_MAX_BODY, 3, 0, 1},
@@ -99,13 +100,14 @@ static uint32_t crc_update(uint32_t crc, const unsigned char *p, uint64_t n)
     return crc;
 }
 
-static int grow(unsigned char **p, size_t *cap, uint64_t need)
+/* capacity >= need, keeping the first `used` bytes */
+static int grow(unsigned char **p, size_t *cap, uint64_t used, uint64_t need)
 {
     if (need <= *cap) return 1;
     if (need > SIZE_MAX / 2) return 0;
     size_t nc = *cap ? *cap : 256;
     while (nc < need) nc *= 2;
-    unsigned char *q = aug_realloc(*p, nc);
+    unsigned char *q = aug_regrow(*p, used, nc);
     if (!q) return 0;
     *p = q;
     *cap = nc;
@@ -135,9 +137,10 @@ static int read_full(FILE *f, void *p, size_t n)
 static int inflate_payload(aug_rec *rec, const unsigned char *src, uint64_t srclen,
                            uint64_t rawlen, aug_err *e)
 {
-    if (!grow(&rec->data, &rec->cap_data, rawlen ? rawlen : 1))
+    if (!grow(&rec->zbuf, &rec->cap_data, 0, rawlen ? rawlen : 1))
         return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory (%llu bytes)",
                            (unsigned long long)rawlen);
+    rec->data = rec->zbuf;
     z_stream z;
     memset(&z, 0, sizeof z);
     if (inflateInit(&z) != Z_OK)
@@ -207,12 +210,16 @@ static int read_record(aug_reader *r, aug_rec *rec, aug_err *e)
     /* grow with the data actually read, so a damaged length fails at EOF
        instead of allocating what it claims */
     uint64_t have = 12;
-    if (!grow(&rec->wire, &rec->cap_wire, 12))
+    if (!grow(&rec->wire, &rec->cap_wire, 0, 12))
         return aug_err_set(e, AUG_ENOMEM, r->count, rec->type, "out of memory");
     memcpy(rec->wire, hdr, 12);
     while (have < wl) {
-        uint64_t chunk = wl - have < READ_CHUNK ? wl - have : READ_CHUNK;
-        if (!grow(&rec->wire, &rec->cap_wire, have + chunk))
+        /* read what fits the buffer, then double it: a damaged length
+           costs at most twice what the stream really holds */
+        uint64_t room = rec->cap_wire > have ? rec->cap_wire - have : 0;
+        if (room == 0) room = have < READ_CHUNK ? READ_CHUNK : have;
+        uint64_t chunk = wl - have < room ? wl - have : room;
+        if (!grow(&rec->wire, &rec->cap_wire, have, have + chunk))
             return aug_err_set(e, AUG_ENOMEM, r->count, rec->type, "out of memory (%llu bytes)",
                                (unsigned long long)wl);
         if (!read_full(r->f, rec->wire + have, (size_t)chunk))
@@ -242,9 +249,7 @@ static int read_record(aug_reader *r, aug_rec *rec, aug_err *e)
             return aug_err_set(e, AUG_ELEN, r->count, rec->type,
                                "payload length %llu disagrees with record length %llu",
                                (unsigned long long)rawlen, (unsigned long long)blen);
-        if (!grow(&rec->data, &rec->cap_data, rawlen ? rawlen : 1))
-            return aug_err_set(e, AUG_ENOMEM, r->count, rec->type, "out of memory");
-        memcpy(rec->data, body + BODY_HDR, rawlen);
+        rec->data = rec->wire + 12 + BODY_HDR;
         rec->len = rawlen;
     }
     r->count++;
@@ -387,7 +392,7 @@ void aug_reader_free(aug_reader *r) { free(r); }
 void aug_rec_free(aug_rec *rec)
 {
     if (!rec) return;
-    free(rec->data);
+    free(rec->zbuf);
     free(rec->wire);
     memset(rec, 0, sizeof *rec);
 }
