@@ -110,6 +110,13 @@ void aug_writer_deflate(aug_writer *w, uint64_t deflate_min);
 /* Write one record with the given payload. */
 int aug_write(aug_writer *w, const char *type, int32_t step, const void *payload,
               uint64_t len, aug_err *e);
+/* Write a large record in parts without building its payload in memory:
+   begin with the payload length, add parts of n elements of `size` bytes
+   (byte-swapped to little-endian where needed), end checks the length and
+   writes the CRC. Such records are never deflated. */
+int aug_write_begin(aug_writer *w, const char *type, int32_t step, uint64_t len, aug_err *e);
+int aug_write_part(aug_writer *w, const void *p, size_t n, size_t size, aug_err *e);
+int aug_write_end(aug_writer *w, aug_err *e);
 /* Write a record read from another stream byte for byte. */
 int aug_write_rec(aug_writer *w, const aug_rec *rec, aug_err *e);
 /* Write the provenance record: tool name, version, command line. */

@@ -402,6 +402,10 @@ struct aug_writer {
     long count;
     uint64_t deflate_min;
     int failed;
+    int open_rec;           /* inside aug_write_begin .. aug_write_end */
+    char rec_type[5];
+    uint64_t rec_left;      /* payload bytes still owed */
+    uint32_t rec_crc;
 };
 
 static int write_bytes(aug_writer *w, const void *p, size_t n, aug_err *e)
@@ -418,6 +422,8 @@ static int write_bytes(aug_writer *w, const void *p, size_t n, aug_err *e)
 static int write_body(aug_writer *w, const char *type, uint32_t flags, int32_t step,
                       uint64_t rawlen, const void *payload, uint64_t plen, aug_err *e)
 {
+    if (w->open_rec)
+        return aug_err_set(e, AUG_EUSAGE, w->count, type, "record %s still open", w->rec_type);
     unsigned char hdr[12 + BODY_HDR];
     uint64_t blen = BODY_HDR + plen;
     put_u64(hdr, blen);
@@ -432,6 +438,68 @@ static int write_body(aug_writer *w, const char *type, uint32_t flags, int32_t s
     if (write_bytes(w, hdr, sizeof hdr, e) || write_bytes(w, payload, plen, e) ||
         write_bytes(w, tail, 4, e))
         return e->code;
+    w->count++;
+    return 0;
+}
+
+int aug_write_begin(aug_writer *w, const char *type, int32_t step, uint64_t len, aug_err *e)
+{
+    aug_err_clear(e);
+    if (!type_wellformed(type) || len > AUG_MAX_BODY - BODY_HDR || w->open_rec)
+        return aug_err_set(e, AUG_EUSAGE, w->count, "", "bad record type, length or nesting");
+    unsigned char hdr[12 + BODY_HDR];
+    put_u64(hdr, BODY_HDR + len);
+    memcpy(hdr + 8, type, 4);
+    put_u32(hdr + 12, 0);
+    put_u32(hdr + 16, (uint32_t)step);
+    put_u64(hdr + 20, len);
+    if (write_bytes(w, hdr, sizeof hdr, e)) return e->code;
+    w->rec_crc = crc_update((uint32_t)crc32(0, Z_NULL, 0), hdr + 8, 4 + BODY_HDR);
+    w->rec_left = len;
+    w->open_rec = 1;
+    memcpy(w->rec_type, type, 5);
+    return 0;
+}
+
+int aug_write_part(aug_writer *w, const void *p, size_t n, size_t size, aug_err *e)
+{
+    uint64_t bytes = (uint64_t)n * size;
+    if (!w->open_rec || bytes > w->rec_left)
+        return aug_err_set(e, AUG_EUSAGE, w->count, w->rec_type, "record part exceeds its length");
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+    unsigned char tmp[4096];
+    const unsigned char *c = p;
+    for (size_t done = 0; done < bytes;) {
+        size_t k = bytes - done < sizeof tmp ? bytes - done : sizeof tmp / size * size;
+        memcpy(tmp, c + done, k);
+        for (size_t i = 0; i < k; i += size)
+            for (size_t a = 0, z = size - 1; a < z; a++, z--) {
+                unsigned char t = tmp[i + a];
+                tmp[i + a] = tmp[i + z];
+                tmp[i + z] = t;
+            }
+        w->rec_crc = crc_update(w->rec_crc, tmp, k);
+        if (write_bytes(w, tmp, k, e)) return e->code;
+        done += k;
+    }
+#else
+    w->rec_crc = crc_update(w->rec_crc, p, bytes);
+    if (write_bytes(w, p, (size_t)bytes, e)) return e->code;
+#endif
+    w->rec_left -= bytes;
+    return 0;
+}
+
+int aug_write_end(aug_writer *w, aug_err *e)
+{
+    if (!w->open_rec || w->rec_left != 0)
+        return aug_err_set(e, AUG_EUSAGE, w->count, w->rec_type,
+                           "record ended %llu bytes short of its length",
+                           (unsigned long long)w->rec_left);
+    unsigned char tail[4];
+    put_u32(tail, w->rec_crc);
+    w->open_rec = 0;
+    if (write_bytes(w, tail, 4, e)) return e->code;
     w->count++;
     return 0;
 }
@@ -495,6 +563,8 @@ int aug_write(aug_writer *w, const char *type, int32_t step, const void *payload
 int aug_write_rec(aug_writer *w, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
+    if (w->open_rec)
+        return aug_err_set(e, AUG_EUSAGE, w->count, rec->type, "record %s still open", w->rec_type);
     if (w->failed) {
         aug_err_set(e, AUG_EIO, w->count, rec->type, "earlier write failed");
         e->output = 1;
@@ -523,6 +593,8 @@ int aug_write_prov(aug_writer *w, int argc, char **argv, aug_err *e)
 
 int aug_writer_close(aug_writer *w, aug_err *e)
 {
+    if (w->open_rec)
+        return aug_err_set(e, AUG_EUSAGE, w->count, "TAIL", "record %s still open", w->rec_type);
     unsigned char n[8];
     put_u64(n, (uint64_t)w->count);
     if (write_body(w, "TAIL", 0, AUG_NOSTEP, 8, n, 8, e)) return e->code;

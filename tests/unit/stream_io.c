@@ -483,6 +483,45 @@ static void test_passthrough(void)
     free(s);
 }
 
+/* a record written in parts is byte-identical to one written whole */
+static void test_write_parts(void)
+{
+    double v[1000];
+    int32_t iv[333];
+    for (int i = 0; i < 1000; i++) v[i] = i * 0.1;
+    for (int i = 0; i < 333; i++) iv[i] = -i;
+    char *b1 = NULL, *b2 = NULL;
+    size_t l1, l2;
+    aug_err e;
+    FILE *f = open_memstream(&b1, &l1);
+    aug_writer *w = aug_writer_open(f, "t", &e);
+    aug_buf b;
+    aug_buf_init(&b);
+    aug_buf_f64v(&b, v, 1000);
+    aug_buf_i32v(&b, iv, 333);
+    aug_write(w, "FVEC", -1, b.p, b.len, &e);
+    aug_buf_free(&b);
+    aug_writer_close(w, &e);
+    aug_writer_free(w);
+    fclose(f);
+    f = open_memstream(&b2, &l2);
+    w = aug_writer_open(f, "t", &e);
+    int rc = aug_write_begin(w, "FVEC", -1, 8000 + 4 * 333, &e);
+    rc |= aug_write_part(w, v, 500, 8, &e);
+    rc |= aug_write_part(w, v + 500, 500, 8, &e);
+    T_CHECK(aug_writer_close(w, &e) == AUG_EUSAGE, "close with an open record accepted");
+    rc |= aug_write_part(w, iv, 333, 4, &e);
+    T_CHECK(aug_write_part(w, iv, 1, 4, &e) == AUG_EUSAGE, "overlong part accepted");
+    rc |= aug_write_end(w, &e);
+    rc |= aug_writer_close(w, &e);
+    aug_writer_free(w);
+    fclose(f);
+    T_CHECK(rc == 0, "parts: %s", e.msg);
+    T_CHECK(l1 == l2 && memcmp(b1, b2, l1) == 0, "parts differ from the whole record");
+    free(b1);
+    free(b2);
+}
+
 int main(void)
 {
     const char *seed = getenv("AUG_WRITE_SEED"); /* fuzz corpus seed (make fuzz) */
@@ -504,5 +543,6 @@ int main(void)
     T_RUN(test_bad_mesh);
     T_RUN(test_malloc_failure);
     T_RUN(test_passthrough);
+    T_RUN(test_write_parts);
     T_EXIT();
 }
