@@ -9,7 +9,7 @@
 CC      ?= cc
 CFLAGS  ?= -O2 -g
 CFLAGS  += -std=c11 -Wall -Wextra -D_GNU_SOURCE -I/usr/include/suitesparse -Ilib
-LDLIBS_NUM = -lcholmod -lsuitesparseconfig -lgsl -llapacke -llapack -lopenblas -larpack -lz -lm -lpthread
+LDLIBS_NUM = -lcholmod -lsuitesparseconfig -lgsl -llapacke -llapack -lopenblas -larpack -lgomp -lz -lm -lpthread
 LDLIBS_GMSH = -lgmsh
 
 B := build

@@ -24,9 +24,12 @@ int aug_load_vector(const aug_mesh *m, const int32_t *map, int64_t nfree, double
                     aug_err *e);
 
 /* Threading for every tool that calls CHOLMOD / OpenBLAS: sets OpenMP and
-   OpenBLAS thread counts (nthreads <= 0: the default, 1). */
+   OpenBLAS thread counts (nthreads <= 0: the default, 1). CHOLMOD's OpenMP
+   teams of fixed size are capped only by OMP_THREAD_LIMIT at start-up: tools
+   call aug_tool_threads (lib/cli/aug_tool.h), which sees to that first. */
 void aug_set_threads(int nthreads);
-/* cholmod_start plus augcut defaults (error handler off: errors via cm->status). */
+/* cholmod_start plus augcut defaults (error handler off: errors via cm->status;
+   blocks >= 2 MiB allocated on transparent huge pages). */
 void aug_cholmod_start(cholmod_common *cm);
 
 /* Records of this layer. */
@@ -39,10 +42,57 @@ cholmod_sparse *aug_read_sparse(const aug_rec *rec, int *which, cholmod_common *
                                 aug_err *e);
 int aug_write_vector(aug_writer *w, const char *type, int32_t step, int32_t kind,
                      const double *v, int64_t n, aug_err *e);
-/* Simplicial LDL' factor as a FACT record (converted copy; L unchanged). */
+/* Any numeric factor as a FACT record in simplicial LDL' form (a supernodal
+   LL' is written as D = diag(L)^2, L diag(L)^-1; L itself is not changed). */
 int aug_write_factor(aug_writer *w, const cholmod_factor *L, cholmod_common *cm,
                      aug_err *e);
 /* Rebuild a simplicial LDL' cholmod_factor from a FACT record. */
 cholmod_factor *aug_read_factor(const aug_rec *rec, cholmod_common *cm, aug_err *e);
+/* Read a vector record of the FVEC layout (kind, n, v[n]); *v is malloc'd. */
+int aug_read_vector(const aug_rec *rec, int32_t *kind, int64_t *n, double **v, aug_err *e);
+
+/* Connected components of the element graph (nodes sharing an element):
+   comp[node] = 0, 1, ... in the order of each component's smallest node, -1
+   for nodes in no element. Returns the count, -1 when out of memory. */
+int64_t aug_mesh_components(const aug_mesh *m, int32_t *comp);
+/* Singular scenes: every component's constraints must remove its rigid-body
+   modes (6 in 3-D, 3 in 2-D); otherwise AUG_ESINGULAR naming the component. */
+int aug_check_support(const aug_mesh *m, aug_err *e);
+
+/* Ordering choice (--ordering) and factor kind for CHOLMOD. */
+enum { AUG_ORDER_AUTO = 0, AUG_ORDER_AMD = 1, AUG_ORDER_METIS = 2 };
+void aug_factor_options(cholmod_common *cm, int ordering, int simplicial);
+const char *aug_ordering_name(int cholmod_ordering);
+/* cholmod_analyze with errors as aug_err. */
+cholmod_factor *aug_analyze(cholmod_sparse *K, cholmod_common *cm, aug_err *e);
+/* Numeric factorization; not positive definite -> AUG_ESINGULAR naming the
+   pivot column and (m, map non-NULL) its node and connected component. */
+int aug_factorize(cholmod_sparse *K, cholmod_factor *L, const aug_mesh *m, const int32_t *map,
+                  cholmod_common *cm, aug_err *e);
+/* a = K^-1 f through L; relres = ||K a - f|| / ||f|| (may be NULL). */
+int aug_solve(cholmod_sparse *K, cholmod_factor *L, const double *f, double *a, double *relres,
+              cholmod_common *cm, aug_err *e);
+/* Nodal field u[nn*dim]: free DOFs from a, constrained ones at their value. */
+void aug_expand_field(const aug_mesh *m, const int32_t *map, const double *a, double *u);
+
+/* Condition estimate cond_2(K) = lambda_max / lambda_min (cond.c). */
+typedef struct aug_cond {
+    double lambda_max, lambda_min, cond;
+    int iters_max, iters_min;   /* operator applications (K x, resp. K^-1 x) */
+    int converged;              /* 0: NAN in the values that did not converge */
+} aug_cond;
+int aug_cond_estimate(cholmod_sparse *K, cholmod_factor *L, double tol, aug_cond *c,
+                      cholmod_common *cm, aug_err *e);
+
+/* fELD (field of one step): nodes == NULL means nodes 0..count-1 (not indexed).
+   aug_read_field: *nodes is NULL when the record is not indexed; both malloc'd. */
+int aug_write_field(aug_writer *w, int32_t step, int32_t kind, int dim, int64_t count,
+                    const int32_t *nodes, const double *u, aug_err *e);
+int aug_read_field(const aug_rec *rec, int32_t *kind, int *dim, int64_t *count,
+                   int32_t **nodes, double **u, aug_err *e);
+
+/* Node -> element incidence (CSR, elements increasing): elements of node i are
+   ind[ptr[i] .. ptr[i+1]-1]. Both malloc'd; -1 on allocation failure. */
+int aug_node_elements(const aug_mesh *m, int64_t **ptr, int32_t **ind);
 
 #endif

@@ -4,6 +4,11 @@
 #define AUGCUT_H
 #include "aug_stream.h"
 #include "aug_mesh.h"
+#include "aug_scene.h"
 #include "aug_fem.h"
 #include "aug_update.h"
+#include "aug_solve.h"
+#include "aug_cut.h"
+#include "aug_refine.h"
+#include "aug_stats.h"
 #endif

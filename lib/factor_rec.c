@@ -13,13 +13,40 @@ static int cmp_pair(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Write the columns of a simplicial LDL' factor S: column j = D(j,j) at row j,
-   then the rows of L(:,j) below the diagonal, increasing. */
+/* payload buffer of exactly the record's size: no reallocation of 10^8 bytes */
+static void reserve(aug_buf *b, size_t n)
+{
+    aug_buf_init(b);
+    b->p = aug_malloc(n ? n : 1);
+    b->cap = b->p ? n : 0;
+    b->failed = !b->p;
+}
+
+static int finish(aug_writer *w, aug_buf *b, aug_err *e)
+{
+    int rc = b->failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "FACT", "out of memory")
+                       : aug_write(w, "FACT", AUG_NOSTEP, b->p, b->len, e);
+    aug_buf_free(b);
+    return rc;
+}
+
+static void put_header(aug_buf *b, const cholmod_factor *L, int64_t nnz, const int64_t *cp)
+{
+    aug_buf_i64(b, (int64_t)L->n);
+    aug_buf_i64(b, nnz);
+    aug_buf_i32(b, L->ordering);
+    aug_buf_i32(b, 0);
+    aug_buf_i32v(b, L->Perm, L->n);
+    aug_buf_i64v(b, cp, L->n + 1);
+}
+
+/* Columns of a simplicial LDL' factor S: column j = D(j,j) at row j, then the
+   rows of L(:,j) below the diagonal, increasing. */
 static int write_simplicial(aug_writer *w, const cholmod_factor *S, aug_err *e)
 {
     long idx = aug_writer_count(w);
     int64_t n = (int64_t)S->n;
-    const int *Sp = S->p, *Si = S->i, *Snz = S->nz, *Perm = S->Perm;
+    const int *Sp = S->p, *Si = S->i, *Snz = S->nz;
     const double *Sx = S->x;
     int64_t *cp = aug_malloc((size_t)(n + 1) * sizeof *cp);
     if (!cp) return aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory");
@@ -33,13 +60,8 @@ static int write_simplicial(aug_writer *w, const cholmod_factor *S, aug_err *e)
             if (Si[q] <= Si[q - 1]) unsorted = 1;
     }
     aug_buf b;
-    aug_buf_init(&b);
-    aug_buf_i64(&b, n);
-    aug_buf_i64(&b, cp[n]);
-    aug_buf_i32(&b, S->ordering);
-    aug_buf_i32(&b, 0);
-    aug_buf_i32v(&b, Perm, (size_t)n);
-    aug_buf_i64v(&b, cp, (size_t)n + 1);
+    reserve(&b, 24 + (size_t)n * 4 + (size_t)(n + 1) * 8 + (size_t)cp[n] * 12);
+    put_header(&b, S, cp[n], cp);
     free(cp);
     if (!unsorted) {
         for (int64_t j = 0; j < n; j++) aug_buf_i32v(&b, Si + Sp[j], (size_t)Snz[j]);
@@ -62,14 +84,65 @@ static int write_simplicial(aug_writer *w, const cholmod_factor *S, aug_err *e)
             }
         free(key);
     }
-    int rc = b.failed ? aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory")
-                      : aug_write(w, "FACT", AUG_NOSTEP, b.p, b.len, e);
-    aug_buf_free(&b);
-    return rc;
+    return finish(w, &b, e);
 }
 
-/* A supernodal or LL' factor is copied and converted (cholmod_change_factor to
-   simplicial LDL'); the caller's L is not changed. */
+/* Supernodal LL' written as LDL' without converting L: column j = k1 + jj of
+   supernode s holds rows Ls[pi + jj ..] and values Lx[px + jj*nsrow + jj ..];
+   D(j,j) = L(j,j)^2 and L_ldl(i,j) = L(i,j) / L(j,j) (what cholmod_change_factor
+   computes). Returns 1 when the supernodal rows are not increasing (the caller
+   converts instead). */
+static int write_supernodal(aug_writer *w, const cholmod_factor *L, aug_err *e)
+{
+    long idx = aug_writer_count(w);
+    int64_t n = (int64_t)L->n, ns = (int64_t)L->nsuper;
+    const int *Super = L->super, *Lpi = L->pi, *Lpx = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    int64_t *cp = aug_malloc((size_t)(n + 1) * sizeof *cp);
+    if (!cp) return aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory");
+    cp[0] = 0;
+    for (int64_t s = 0; s < ns; s++) {
+        int k1 = Super[s], k2 = Super[s + 1], psi = Lpi[s], nsrow = Lpi[s + 1] - psi;
+        for (int jj = 0; jj < k2 - k1; jj++) {
+            if (Ls[psi + jj] != k1 + jj) goto unsorted;
+            cp[k1 + jj + 1] = cp[k1 + jj] + (nsrow - jj);
+        }
+        for (int q = psi + 1; q < psi + nsrow; q++)
+            if (Ls[q] <= Ls[q - 1]) goto unsorted;
+    }
+    aug_buf b;
+    reserve(&b, 24 + (size_t)n * 4 + (size_t)(n + 1) * 8 + (size_t)cp[n] * 12);
+    put_header(&b, L, cp[n], cp);
+    free(cp);
+    for (int64_t s = 0; s < ns; s++) {
+        int k1 = Super[s], k2 = Super[s + 1], psi = Lpi[s], nsrow = Lpi[s + 1] - psi;
+        for (int jj = 0; jj < k2 - k1; jj++) aug_buf_i32v(&b, Ls + psi + jj, (size_t)(nsrow - jj));
+    }
+    double *col = aug_malloc((size_t)(n ? n : 1) * sizeof *col);
+    if (!col) {
+        aug_buf_free(&b);
+        return aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory");
+    }
+    for (int64_t s = 0; s < ns; s++) {
+        int k1 = Super[s], k2 = Super[s + 1], nsrow = Lpi[s + 1] - Lpi[s];
+        for (int jj = 0; jj < k2 - k1; jj++) {
+            const double *x = Lx + Lpx[s] + (size_t)jj * nsrow + jj;
+            double ljj = x[0];
+            col[0] = ljj * ljj;
+            for (int q = 1; q < nsrow - jj; q++) col[q] = x[q] / ljj;
+            aug_buf_f64v(&b, col, (size_t)(nsrow - jj));
+        }
+    }
+    free(col);
+    return finish(w, &b, e);
+unsorted:
+    free(cp);
+    return 1;
+}
+
+/* Any numeric factor as FACT: simplicial LDL' directly, supernodal LL' by
+   write_supernodal, otherwise (simplicial LL', or supernodal rows out of order)
+   a copy converted by cholmod_change_factor; the caller's L is not changed. */
 int aug_write_factor(aug_writer *w, const cholmod_factor *L, cholmod_common *cm,
                      aug_err *e)
 {
@@ -79,6 +152,10 @@ int aug_write_factor(aug_writer *w, const cholmod_factor *L, cholmod_common *cm,
         return aug_err_set(e, AUG_EUSAGE, idx, "FACT",
                            "factor must be numeric, real, int-indexed and complete");
     if (!L->is_super && !L->is_ll) return write_simplicial(w, L, e);
+    if (L->is_super) {
+        int rc = write_supernodal(w, L, e);
+        if (rc != 1) return rc;
+    }
     cholmod_factor *S = cholmod_copy_factor((cholmod_factor *)L, cm);
     if (!S || !cholmod_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, S, cm)) {
         cholmod_free_factor(&S, cm);

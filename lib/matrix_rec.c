@@ -55,8 +55,9 @@ int aug_read_dofmap(const aug_rec *rec, int *dim, int64_t *ndof, int64_t *nfree,
     for (int64_t i = 0; i < nd; i++) {
         if (mp[i] == -1) continue;
         if (mp[i] != k) {
+            int32_t got = mp[i];
             free(mp);
-            return DATA("dof %lld maps to %d, expected -1 or %lld", (long long)i, (int)mp[i],
+            return DATA("dof %lld maps to %d, expected -1 or %lld", (long long)i, (int)got,
                         (long long)k);
         }
         k++;

@@ -43,4 +43,12 @@ int aug_parse_double(const char *s, double *v);
 /* Wall clock in seconds (monotonic). */
 double aug_now(void);
 
+/* Threads of CHOLMOD/OpenBLAS (nthreads <= 0: 1). Call right after option
+   parsing, before any input is read: when OMP_THREAD_LIMIT is not set, the
+   tool re-executes itself once with OMP_THREAD_LIMIT=nthreads (libgomp reads
+   it only at start-up, and CHOLMOD's fixed-size OpenMP teams otherwise
+   oversubscribe the cores); an OMP_THREAD_LIMIT set by the user is kept. Then
+   aug_set_threads(nthreads). */
+void aug_tool_threads(aug_tool *t, int nthreads);
+
 #endif

@@ -1,0 +1,10 @@
+#!/bin/sh
+# Runs every bench script in turn (make bench); each writes CSV + PNG to bench/out/.
+# One line per script; a failing script is reported and the others still run.
+cd "$(dirname "$0")/.." || exit 2
+status=0
+run() { echo "== $1"; sh "bench/$1" || { echo "bench: $1 failed" >&2; status=1; }; }
+run stream_throughput.sh
+run factor.sh
+run solve.sh
+exit $status

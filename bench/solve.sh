@@ -1,0 +1,70 @@
+#!/bin/sh
+# solve-aug bench (AMPS figs 6-8, table 3; paper 000 figs 4-7, 9-11): per scene a
+# planar cut of STEPS steps solved by every method in one run; per step time,
+# residual, closure sizes and GMRES iterations (bench/out/solve_SCENE.csv), a
+# summary of medians and ratios (bench/out/solve_summary.csv) against one full
+# CHOLMOD solve of the same factor (factor's step-0 solve_ms), and PNG plots.
+# SCENES / STEPS / METHODS may be set in the environment; QUICK=1 runs brick_n8 only.
+cd "$(dirname "$0")/.." || exit 2
+B=bin; S=build/scenes; O=bench/out; mkdir -p $O
+STEPS=${STEPS:-64}
+METHODS=${METHODS:-amps,gmres,refactor,rowupdate,pcg}
+if [ "${QUICK:-0}" = 1 ]; then SCENES=${SCENES:-brick_n8}; STEPS=${STEPS:-16}; fi
+SCENES=${SCENES:-"beam_h64 beam_h256 beam_h1024 brick_n8 brick_n12 brick_n16 brick_n20"}
+export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
+echo "scene,n,method,steps,median_ms,rate_hz,ratio_full_solve,amps_speedup,max_relres,median_iters,max_closure" > $O/solve_summary.csv
+for sc in $SCENES; do
+    [ -f $S/$sc.msh ] || { echo "solve.sh: $S/$sc.msh missing, skipped" >&2; continue; }
+    case $sc in beam*) load="tip:0,1e-3,0";; *) load="top:0,0,-1";; esac
+    case $sc in beam*) plane="0,1,0,2";; *) plane="1,0,0,0.5";; esac
+    $B/meshload $S/$sc.msh --fix fixed --load $load | $B/factor > $O/.f.aug || { echo "solve.sh: $sc: factor failed" >&2; continue; }
+    $B/cut --plane $plane --steps $STEPS --pull 0.1 < $O/.f.aug > $O/.c.aug || { echo "solve.sh: $sc: cut failed" >&2; continue; }
+    $B/solve-aug --method $METHODS --tol 1e-8 --maxit 20000 --on-singular report < $O/.c.aug 2>$O/solve_$sc.err |
+        $B/stats --csv > $O/solve_$sc.csv || { echo "solve.sh: $sc: solve-aug failed" >&2; continue; }
+    python3 - $O/solve_$sc.csv $sc $O/solve_summary.csv <<'PY'
+import csv, statistics, sys, math
+rows = list(csv.DictReader(open(sys.argv[1])))
+sc, out = sys.argv[2], open(sys.argv[3], "a")
+full = [float(r["solve_ms"]) for r in rows if r["method"] == "factor" and r.get("solve_ms")]
+full = full[0] if full else float("nan")
+n = next((r["n"] for r in rows if r["method"] == "factor"), "")
+def f(r, k):
+    try: return float(r[k])
+    except (KeyError, ValueError): return float("nan")
+by = {}
+for r in rows:
+    if r["method"] != "factor": by.setdefault(r["method"], []).append(r)
+med = {m: statistics.median([f(r, "time_ms") for r in rs]) for m, rs in by.items()}
+for m, rs in by.items():
+    it = [f(r, "iters") for r in rs]
+    cl = [max(f(r, "closure_v"), f(r, "closure_j")) for r in rs]
+    cl = [c for c in cl if not math.isnan(c)]
+    rr = [f(r, "relres") for r in rs]
+    out.write("%s,%s,%s,%d,%.4g,%.4g,%.4g,%.4g,%.3g,%s,%s\n" % (sc, n, m, len(rs), med[m], 1e3 / med[m],
+              med[m] / full, med[m] / med.get("amps", float("nan")), max(rr),
+              statistics.median(it), int(max(cl)) if cl else ""))
+PY
+    if command -v gnuplot > /dev/null; then
+        for m in $(echo $METHODS | tr , ' '); do
+            awk -F, -v m=$m 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+                $c["method"] == m { print $c["step"], 1000 / $c["time_ms"], $c["relres"], $c["iters"] }' \
+                $O/solve_$sc.csv > $O/.solve_$sc.$m.dat
+        done
+        plots=""; rplots=""
+        for m in $(echo $METHODS | tr , ' '); do
+            plots="$plots${plots:+, }'$O/.solve_$sc.$m.dat' using 1:2 with linespoints title '$m'"
+            rplots="$rplots${rplots:+, }'$O/.solve_$sc.$m.dat' using 1:3 with linespoints title '$m'"
+        done
+        gnuplot <<GP
+set terminal png size 800,500
+set output '$O/solve_${sc}_rate.png'
+set title 'update rate per cut step, $sc'; set xlabel 'cut step'; set ylabel 'Hz'; set logscale y
+plot $plots
+set output '$O/solve_${sc}_relres.png'
+set title 'relative residual per cut step, $sc'; set ylabel '||K a - f|| / ||f||'
+plot $rplots
+GP
+    fi
+done
+rm -f $O/.f.aug $O/.c.aug $O/.solve_*.dat
+column -s, -t < $O/solve_summary.csv

@@ -1,0 +1,151 @@
+/* AMPS step 1: the new columns of V = L^-1 P H, each solved only over the
+   elimination-tree path of its nonzero (paper 001 eq. 3.22-3.24, table 1 step 1). */
+#include <stdlib.h>
+#include <string.h>
+#include "aug_solve.h"
+
+void aug_memo_init(aug_memo *M) { memset(M, 0, sizeof *M); }
+
+void aug_memo_free(aug_memo *M)
+{
+    free(M->vp);
+    free(M->vi);
+    free(M->vx);
+    free(M->col);
+    free(M->cpos);
+    free(M->G);
+    int uc = M->use_cholmod;
+    memset(M, 0, sizeof *M);
+    M->use_cholmod = uc;
+}
+
+static int grow_cols(aug_memo *M, int64_t need)
+{
+    if (need <= M->mcap) return 0;
+    int64_t nc = M->mcap ? M->mcap : 64;
+    while (nc < need) nc *= 2;
+    int64_t *vp = aug_realloc(M->vp, (size_t)(nc + 1) * sizeof *vp);
+    if (!vp) return -1;
+    M->vp = vp;
+    if (M->mcap == 0) vp[0] = 0;
+    int32_t *col = aug_realloc(M->col, (size_t)nc * sizeof *col);
+    if (!col) return -1;
+    M->col = col;
+    double *G = aug_malloc((size_t)nc * (size_t)nc * sizeof *G);
+    if (!G) return -1;
+    for (int64_t j = 0; j < M->m; j++) memcpy(G + j * nc, M->G + j * M->mcap, (size_t)M->m * sizeof *G);
+    free(M->G);
+    M->G = G;
+    M->mcap = nc;
+    return 0;
+}
+
+static int grow_vals(aug_memo *M, int64_t need)
+{
+    if (need <= M->vcap) return 0;
+    int64_t nc = M->vcap ? M->vcap : 4096;
+    while (nc < need) nc *= 2;
+    int32_t *vi = aug_realloc(M->vi, (size_t)nc * sizeof *vi);
+    if (!vi) return -1;
+    M->vi = vi;
+    double *vx = aug_realloc(M->vx, (size_t)nc * sizeof *vx);
+    if (!vx) return -1;
+    M->vx = vx;
+    M->vcap = nc;
+    return 0;
+}
+
+/* x = L \ e_p along path(p): x_p = 1, x_r -= L(r,c) x_c for c on the path */
+static void path_solve(const aug_base *b, const int32_t *path, int64_t len, double *x, double *out)
+{
+    const int *Lp = b->Lp, *Li = b->Li, *Lnz = b->Lnz;
+    const double *Lx = b->Lx;
+    x[path[0]] = 1.0;
+    for (int64_t t = 0; t < len; t++) {
+        int32_t j = path[t];
+        double xj = x[j];
+        out[t] = xj;
+        x[j] = 0;
+        if (xj == 0) continue;
+        for (int q = Lp[j] + 1; q < Lp[j] + Lnz[j]; q++) x[Li[q]] -= Lx[q] * xj;
+    }
+}
+
+/* the same column by CHOLMOD: sys = L with Bset = {p}; Xset is the reach */
+static int cholmod_column(const aug_base *b, int32_t p, const int32_t *path, int64_t len,
+                          double *out, cholmod_dense **X, cholmod_sparse **Xset,
+                          cholmod_dense **Y, cholmod_dense **Ew, cholmod_common *cm)
+{
+    cholmod_dense *B = cholmod_zeros((size_t)b->n, 1, CHOLMOD_REAL, cm);
+    cholmod_sparse *Bset = cholmod_allocate_sparse((size_t)b->n, 1, 1, 1, 1, 0, CHOLMOD_PATTERN, cm);
+    if (!B || !Bset) goto fail;
+    ((double *)B->x)[p] = 1.0;
+    ((int *)Bset->p)[0] = 0, ((int *)Bset->p)[1] = 1, ((int *)Bset->i)[0] = p;
+    if (!cholmod_solve2(CHOLMOD_L, b->L, B, Bset, X, Xset, Y, Ew, cm)) goto fail;
+    const double *x = (*X)->x;
+    for (int64_t t = 0; t < len; t++) out[t] = x[path[t]];
+    cholmod_free_dense(&B, cm);
+    cholmod_free_sparse(&Bset, cm);
+    return 0;
+fail:
+    if (B) cholmod_free_dense(&B, cm);
+    if (Bset) cholmod_free_sparse(&Bset, cm);
+    return -1;
+}
+
+int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_common *cm,
+                   aug_err *e)
+{
+    M->reach_new = 0;
+    M->m_new = 0;
+    if (M->pcap < c->pcap) {
+        int32_t *cp = aug_realloc(M->cpos, (size_t)c->pcap * sizeof *cp);
+        if (!cp) goto nomem;
+        for (int64_t i = M->pcap; i < c->pcap; i++) cp[i] = -1;
+        M->cpos = cp;
+        M->pcap = c->pcap;
+    }
+    int64_t need = M->m;
+    for (int64_t p = 0; p < c->ns; p++) need += c->S[p] < c->nb && M->cpos[p] < 0;
+    if (need == M->m) return 0;
+    if (grow_cols(M, need)) goto nomem;
+    int32_t *path = aug_malloc((size_t)b->n * sizeof *path);
+    double *x = aug_calloc((size_t)b->n, sizeof *x);
+    cholmod_dense *X = NULL, *Y = NULL, *Ew = NULL;
+    cholmod_sparse *Xset = NULL;
+    if (!path || !x) {
+        free(path), free(x);
+        goto nomem;
+    }
+    int rc = 0;
+    for (int64_t p = 0; p < c->ns && !rc; p++) {
+        if (c->S[p] >= c->nb || M->cpos[p] >= 0) continue;
+        int32_t j = b->pinv[c->S[p]];
+        int64_t len = aug_ldl_path(b, j, path), at = M->vp[M->m];
+        if (grow_vals(M, at + len)) {
+            rc = aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (V)");
+            break;
+        }
+        memcpy(M->vi + at, path, (size_t)len * sizeof *path);
+        if (M->use_cholmod) {
+            if (cholmod_column(b, j, path, len, M->vx + at, &X, &Xset, &Y, &Ew, cm))
+                rc = aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_solve2 failed");
+        } else {
+            path_solve(b, path, len, x, M->vx + at);
+        }
+        M->col[M->m] = (int32_t)p;
+        M->cpos[p] = (int32_t)M->m;
+        M->vp[++M->m] = at + len;
+        M->reach_new += len;
+        M->m_new++;
+    }
+    if (X) cholmod_free_dense(&X, cm);
+    if (Y) cholmod_free_dense(&Y, cm);
+    if (Ew) cholmod_free_dense(&Ew, cm);
+    if (Xset) cholmod_free_sparse(&Xset, cm);
+    free(path);
+    free(x);
+    return rc;
+nomem:
+    return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (V)");
+}

@@ -1,0 +1,192 @@
+/* AMPS steps 4 and 6: the right-hand side of eq. 3.21 (with loads changed on H)
+   and the solution by eq. 3.20, back-substituting only over the closure of the
+   requested DOFs (paper 001 sec. 3.1-3.2). */
+#include <stdlib.h>
+#include <string.h>
+#include "aug_solve.h"
+
+void aug_amps_init(aug_amps *a)
+{
+    memset(a, 0, sizeof *a);
+    aug_memo_init(&a->memo);
+    aug_schur_init(&a->schur);
+}
+
+void aug_amps_free(aug_amps *a)
+{
+    if (a->X || a->Yw || a->Ew) {
+        cholmod_common cm;
+        cholmod_start(&cm);
+        cholmod_free_dense(&a->X, &cm);
+        cholmod_free_dense(&a->Yw, &cm);
+        cholmod_free_dense(&a->Ew, &cm);
+        cholmod_finish(&cm);
+    }
+    aug_memo_free(&a->memo);
+    aug_schur_free(&a->schur);
+    free(a->x);
+    free(a->w);
+    free(a->y);
+    free(a->q);
+    free(a->mark);
+    memset(a, 0, sizeof *a);
+}
+
+void aug_amps_reset(aug_amps *a)
+{
+    int uc = a->memo.use_cholmod;
+    aug_memo_free(&a->memo);
+    a->memo.use_cholmod = uc;
+    aug_schur_free(&a->schur);
+}
+
+static double now_ms(void) { return aug_wall_ms(); }
+
+/* scratch: x (na), w (max(m, ns)), y/mark/q (n_b) */
+static int scratch(aug_amps *a, const aug_base *b, const aug_cum *c)
+{
+    int64_t need = c->ns + 1;
+    if (a->xcap < need) {
+        free(a->x), free(a->w);
+        a->x = aug_malloc((size_t)need * sizeof *a->x);
+        a->w = aug_malloc((size_t)need * 2 * sizeof *a->w);
+        a->xcap = a->x && a->w ? need : 0;
+        if (!a->xcap) return -1;
+    }
+    if (a->wcap < b->n + 1) {
+        free(a->y), free(a->q), free(a->mark);
+        a->y = aug_malloc((size_t)(b->n + 1) * sizeof *a->y);
+        a->q = aug_malloc((size_t)(b->n + 1) * sizeof *a->q);
+        a->mark = aug_calloc((size_t)(b->n + 1), 1);
+        a->wcap = a->y && a->q && a->mark ? b->n + 1 : 0;
+        if (!a->wcap) return -1;
+    }
+    return 0;
+}
+
+/* w[c] = (Ebar x)(col c) over the memo columns, wn[p] over all positions */
+static void ebar_times(const aug_amps *a, const aug_cum *c, const double *x, double *wp)
+{
+    const aug_schur *s = &a->schur;
+    for (int64_t p = 0; p < c->ns; p++) wp[p] = 0;
+    for (int64_t bq = 0; bq < s->na; bq++) {
+        const double *Eb = c->E + (int64_t)s->A[bq] * c->cap;
+        double xb = x[bq];
+        if (xb == 0) continue;
+        for (int64_t p = 0; p < c->ns; p++) wp[p] += Eb[p] * xb;
+    }
+}
+
+/* y (permuted, n_b) = D^-1 sum_c V(:,c) w(col c) */
+static void v_times(const aug_amps *a, const aug_base *b, const double *wp, double *y)
+{
+    const aug_memo *M = &a->memo;
+    memset(y, 0, (size_t)b->n * sizeof *y);
+    for (int64_t j = 0; j < M->m; j++) {
+        double wj = wp[M->col[j]];
+        if (wj == 0) continue;
+        for (int64_t t = M->vp[j]; t < M->vp[j + 1]; t++) y[M->vi[t]] += M->vx[t] * wj;
+    }
+    aug_ldl_dsolve(b, NULL, 0, y);
+}
+
+int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
+                  int64_t nout, double rcond_min, double *u, double times[4],
+                  cholmod_common *cm, aug_err *e)
+{
+    double t0 = now_ms();
+    if (scratch(a, b, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    int rc = aug_memo_reach(&a->memo, b, c, cm, e);
+    double t1 = now_ms();
+    if (!rc) rc = aug_memo_grow(&a->memo, b, e);
+    double t2 = now_ms();
+    if (!rc) rc = aug_schur_factor(&a->schur, &a->memo, c, rcond_min, e);
+    double t3 = now_ms();
+    times[0] = t1 - t0, times[1] = t2 - t1, times[2] = t3 - t2, times[3] = 0;
+    if (rc || a->schur.singular) return rc;
+    const aug_memo *M = &a->memo;
+    const aug_schur *s = &a->schur;
+    double *x = a->x, *wp = a->w, *y = a->y;
+    /* rhs (eq. 3.21 with f_t = [f_b; 0] + P_S dF): on base DOFs
+       H'a_b + H'K^-1H dF_H, on new DOFs dF */
+    for (int64_t aq = 0; aq < s->na; aq++) {
+        int32_t p = s->A[aq];
+        if (c->S[p] >= c->nb) {
+            x[aq] = c->dF[p];
+            continue;
+        }
+        const double *Gp = M->G + (int64_t)M->cpos[p] * M->mcap;
+        double v = b->a[c->S[p]];
+        for (int64_t j = 0; j < M->m; j++) v += Gp[j] * c->dF[M->col[j]];
+        x[aq] = v;
+    }
+    aug_schur_solve(s, x);
+    /* eq. 3.20: a = a_b + K^-1 H (dF + Ebar a2) off A */
+    ebar_times(a, c, x, wp);
+    for (int64_t p = 0; p < c->ns; p++) wp[p] += c->dF[p];
+    v_times(a, b, wp, y);
+    int64_t nq = 0;
+    if (out) {
+        int32_t *st = a->q;
+        int64_t k = 0;
+        for (int64_t t = 0; t < nout; t++)
+            if (out[t] < c->nb) st[k++] = b->pinv[out[t]];
+        int32_t *tmp = aug_malloc((size_t)(b->n + 1) * sizeof *tmp);
+        if (!tmp) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+        nq = aug_ldl_closure(b, st, k, tmp, a->mark);
+        memcpy(a->q, tmp, (size_t)nq * sizeof *tmp);
+        free(tmp);
+        aug_ldl_ltsolve(b, a->q, nq, y);
+    } else {
+        if (aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm))
+            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
+        nq = b->n;
+    }
+    a->nq = nq;
+    int64_t cnt = out ? nout : c->n;
+    for (int64_t t = 0; t < cnt; t++) {
+        int64_t i = out ? out[t] : t;
+        int32_t p = c->pos[i];
+        if (i < c->nb && (p < 0 || !s->act[p])) u[i] = b->a[i] + y[b->pinv[i]];
+        else if (p >= 0 && !s->act[p]) u[i] = c->dF[p];
+    }
+    for (int64_t aq = 0; aq < s->na; aq++) u[c->S[s->A[aq]]] = x[aq];
+    a->closure_v = 0;
+    for (int64_t j = 0; j < M->m; j++)
+        if (M->vp[j + 1] > M->vp[j]) {
+            /* |closure of H in L| = |union of the V paths| */
+            for (int64_t t = M->vp[j]; t < M->vp[j + 1]; t++) {
+                if (a->mark[M->vi[t]]) break;
+                a->mark[M->vi[t]] = 1;
+                a->closure_v++;
+            }
+        }
+    for (int64_t j = 0; j < M->m; j++)
+        for (int64_t t = M->vp[j]; t < M->vp[j + 1] && a->mark[M->vi[t]]; t++) a->mark[M->vi[t]] = 0;
+    times[3] = now_ms() - t3;
+    return 0;
+}
+
+int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
+                           const double *r, double *x, aug_err *e)
+{
+    if (scratch(a, b, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    const aug_schur *s = &a->schur;
+    double *xa = a->x, *wp = a->w, *y = a->y;
+    double *work = aug_malloc((size_t)(b->n + 1) * sizeof *work);
+    if (!work) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    /* x = Kbar^-1 r; a2 = S2^-1 Hbar'x; x += Kbar^-1 Hbar Ebar a2 */
+    aug_ldl_solve_full(b, r, x, work);
+    free(work);
+    for (int64_t i = c->nb; i < c->n; i++) x[i] = r[i];
+    for (int64_t aq = 0; aq < s->na; aq++) xa[aq] = x[c->S[s->A[aq]]];
+    aug_schur_solve(s, xa);
+    ebar_times(a, c, xa, wp);
+    v_times(a, b, wp, y);
+    aug_ldl_ltsolve(b, NULL, 0, y);
+    for (int64_t i = 0; i < c->nb; i++) x[i] += y[b->pinv[i]];
+    for (int64_t p = 0; p < c->ns; p++)
+        if (c->S[p] >= c->nb) x[c->S[p]] += wp[p];
+    for (int64_t aq = 0; aq < s->na; aq++) x[c->S[s->A[aq]]] = xa[aq];
+    return 0;
+}

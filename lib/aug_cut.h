@@ -1,0 +1,322 @@
+/* augcut cut layer: cut-matrix assembly, boundary-condition deltas (BDLT), the
+   mesh edit of one cut step, node separation, planar and path cuts, detached
+   pieces (formats/stream.md 7.1, 7.2, 7.6, 7.7). */
+#ifndef AUG_CUT_H
+#define AUG_CUT_H
+
+#include <stdio.h>
+#include "aug_fem.h"
+#include "aug_update.h"
+
+/* ---- The cut system assembled from scratch (formats/stream.md 7.2) ----
+   Matrix order n_t = nfree0 + dim*(nn - nn0). Index of (node, c): aug_cut_index.
+   An index whose DOF is constrained (FIXD, inherited or added by BDLT) is an
+   identity row and column with load = its prescribed value; every other row is
+   the stiffness over the free indices, load = nodal force - K[i, constrained] * value. */
+int64_t aug_cut_order(const aug_mesh *m, int64_t nn0, int64_t nfree0);
+/* K_t over all indices 0..n_t-1: upper triangle, sorted columns, stype 1. */
+cholmod_sparse *aug_assemble_cut(const aug_mesh *m, int64_t nn0, const int32_t *map0,
+                                 int64_t nfree0, cholmod_common *cm, aug_err *e);
+/* f_t (length n_t). */
+int aug_load_cut(const aug_mesh *m, int64_t nn0, const int32_t *map0, int64_t nfree0,
+                 double *f, aug_err *e);
+/* Constrained value of dof in m (sorted fix list): 1 and *v, or 0. */
+int aug_mesh_fixed(const aug_mesh *m, int32_t dof, double *v);
+/* Nodal force on dof (0 when none). */
+double aug_mesh_load(const aug_mesh *m, int32_t dof);
+
+/* ---- BDLT: constraints and loads changed by one step (formats/stream.md 7.7) ---- */
+typedef struct aug_bdelta {
+    int32_t step;
+    int64_t nfix;
+    int32_t *fix_dof;    /* strictly increasing after aug_bdelta_finish */
+    double *fix_val;
+    int64_t nload;
+    int32_t *load_dof;   /* strictly increasing; the new total force on that dof */
+    double *load_val;
+    int64_t capfix, capload;
+} aug_bdelta;
+
+void aug_bdelta_init(aug_bdelta *b);
+void aug_bdelta_free(aug_bdelta *b);
+int aug_bdelta_empty(const aug_bdelta *b);
+/* Append a constraint / a load (duplicates: the last one wins at finish). 0 or -1 (memory). */
+int aug_bdelta_fix(aug_bdelta *b, int32_t dof, double v);
+int aug_bdelta_load(aug_bdelta *b, int32_t dof, double v);
+/* Sort and de-duplicate both lists: 0 or -1 (memory). */
+int aug_bdelta_finish(aug_bdelta *b);
+int aug_write_bdelta(aug_writer *w, const aug_bdelta *b, aug_err *e);
+int aug_read_bdelta(const aug_rec *rec, aug_bdelta *b, aug_err *e);
+/* Constrain / set loads in m (sorted insertion). */
+int aug_mesh_apply_bc(aug_mesh *m, const aug_bdelta *b, aug_err *e);
+
+/* ---- Update of one step (AMPS eq. 3.1) from the mesh after its MDLT ----
+   after: the mesh with d applied (aug_mesh_apply) but bc not yet applied;
+   nn_before, ne_before: counts before d; oldconn: the connectivity of d->elem
+   before d (d->nmod * nv). bc may be NULL. Fills u (see aug_update_build). */
+int aug_update_build_after(const aug_mesh *after, int64_t nn_before, int64_t ne_before,
+                           const int32_t *oldconn, const aug_mdelta *d, const aug_bdelta *bc,
+                           int64_t nn0, const int32_t *map0, int64_t nfree0, aug_update *u,
+                           aug_err *e);
+/* As aug_update_build, with a BDLT of the same step (applied after d). */
+int aug_update_build_bc(const aug_mesh *before, const aug_mdelta *d, const aug_bdelta *bc,
+                        int64_t nn0, const int32_t *map0, int64_t nfree0, aug_update *u,
+                        aug_err *e);
+
+/* ---- Node -> element adjacency, kept current while a mesh is edited ---- */
+typedef struct aug_adj {
+    int64_t nn, capn;
+    int32_t **list;      /* list[node][0..cnt-1] element indices (unordered) */
+    int32_t *cnt, *cap;
+} aug_adj;
+int aug_adj_build(aug_adj *a, const aug_mesh *m);
+void aug_adj_free(aug_adj *a);
+int aug_adj_grow(aug_adj *a, int64_t nn);            /* nodes 0..nn-1 exist */
+int aug_adj_add(aug_adj *a, int32_t node, int32_t elem);
+void aug_adj_remove(aug_adj *a, int32_t node, int32_t elem);
+
+/* ---- The mesh edit of one step: new nodes, re-wired and added elements ----
+   Changes are kept on the side (new nodes and elements) or in place (re-wired
+   elements, old connectivity saved); aug_edit_end turns them into an MDLT and
+   restores the mesh arrays, leaving the adjacency as after the step, so that
+   aug_mesh_apply(m, d) completes the step; aug_edit_begin then starts the next. */
+typedef struct aug_edit {
+    aug_mesh *m;
+    aug_adj *adj;
+    int64_t nn0, ne0;            /* counts when the edit began */
+    int64_t nnew, capnew;
+    double *xnew;                /* nnew*dim */
+    int32_t *parent;
+    int64_t nadd, capadd;
+    int32_t *conn_add, *mat_add;
+    int64_t nmod, capmod;
+    int32_t *mod_elem, *mod_old; /* elements re-wired and their connectivity at begin */
+    int32_t *slot;               /* per element: index in mod_elem or -1 (size capslot) */
+    int64_t capslot;
+} aug_edit;
+
+int aug_edit_init(aug_edit *ed, aug_mesh *m, aug_adj *adj);
+void aug_edit_free(aug_edit *ed);
+void aug_edit_begin(aug_edit *ed);
+int64_t aug_edit_nn(const aug_edit *ed);
+int64_t aug_edit_ne(const aug_edit *ed);
+const double *aug_edit_x(const aug_edit *ed, int64_t node);
+const int32_t *aug_edit_conn(const aug_edit *ed, int64_t elem);
+int32_t aug_edit_mat(const aug_edit *ed, int64_t elem);
+/* New node at x with the given parent: its index, or -1 (memory). */
+int32_t aug_edit_node(aug_edit *ed, const double *x, int32_t parent);
+/* Replace the connectivity of an element: 0 or -1. */
+int aug_edit_set(aug_edit *ed, int64_t elem, const int32_t *conn);
+/* Append an element: its index or -1. */
+int64_t aug_edit_elem(aug_edit *ed, const int32_t *conn, int32_t mat);
+/* Signed measure of an element of the edited mesh. */
+double aug_edit_measure(const aug_edit *ed, int64_t elem);
+/* The step as an MDLT (d->elem: elements whose connectivity changed, increasing)
+   and their old connectivity (*oldconn, malloc'd); restores the mesh arrays. */
+int aug_edit_end(aug_edit *ed, int32_t step, aug_mdelta *d, int32_t **oldconn, aug_err *e);
+
+/* ---- Node separation (node duplication, AMPS sec. 4.3.2) ----
+   Is the face f (nf nodes) between elements a and b cut? */
+typedef int (*aug_cutface_fn)(void *ctx, const aug_edit *ed, int32_t a, int32_t b,
+                              const int32_t *f, int nf);
+/* Which component keeps the node: the one holding the element of least rank
+   (rank NULL: the element index). */
+typedef int64_t (*aug_rank_fn)(void *ctx, int32_t elem);
+/* Split the element star of node p into the components connected through
+   uncut faces containing p; each component but the keeper gets a copy of p
+   and is re-wired to it. *ncopies: copies made (0: the star is whole). */
+int aug_separate_node(aug_edit *ed, int32_t p, aug_cutface_fn cut, aug_rank_fn rank,
+                      void *ctx, int *ncopies, aug_err *e);
+
+/* ---- Element face neighbours (faces shared by two elements) ---- */
+typedef struct aug_facenbr {
+    int nf;                      /* faces per element = nv */
+    int64_t ne, cap;
+    int32_t *nbr;                /* ne*nf: element across face f (face f omits local node f), -1 */
+    int32_t *dirty;              /* elements the last update refreshed */
+    int64_t ndirty;
+    int32_t *mark, *lab, *queue; /* search workspace (cap each), marks by generation */
+    int32_t gen;
+} aug_facenbr;
+int aug_facenbr_build(aug_facenbr *f, const aug_mesh *m, const aug_adj *adj);
+/* After elements changed (re-wired or appended, listed in elems): refresh them and
+   their former neighbours. */
+int aug_facenbr_update(aug_facenbr *f, const aug_mesh *m, const aug_adj *adj,
+                       const int32_t *elems, int64_t n);
+void aug_facenbr_free(aug_facenbr *f);
+/* Are the elements the last update refreshed still face-connected to one
+   another? A search from one of them that visits at most budget elements:
+   1 yes; 0 no, or the budget ran out. */
+int aug_facenbr_local_connected(aug_facenbr *f, int64_t budget);
+
+/* ---- Pieces without Dirichlet support (DESIGN: hard cases) ----
+   Pieces are the face-connected components of the elements; a piece is rigid.
+   The mesh is singular exactly when the rigid motions of the pieces, coupled
+   through shared nodes and stopped by the constraints (those of m plus extra),
+   leave a non-zero motion. The detached pieces are the pieces moving in it. */
+typedef struct aug_pieces {
+    int64_t np;                  /* face-connected pieces */
+    int32_t *piece;              /* per element */
+    int64_t nbad;                /* pieces moving in the null space */
+    int32_t *bad;                /* their ids, by increasing first element */
+    int32_t *first;              /* per piece: its least element */
+    int64_t *size;               /* per piece: element count */
+    int32_t *queue;              /* workspace, kept between calls */
+    int64_t cap;                 /* elements piece[] and queue[] hold */
+} aug_pieces;
+/* Zero an aug_pieces before the first aug_detach_find; it can be reused. */
+void aug_pieces_free(aug_pieces *p);
+int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn,
+                    const aug_bdelta *extra, aug_pieces *out, aug_err *e);
+/* The same when the elements are known to form one face-connected piece. */
+int aug_detach_find_one(const aug_mesh *m, const aug_adj *adj, const aug_bdelta *extra,
+                        aug_pieces *out, aug_err *e);
+/* Constraints (value 0) into b that hold piece id still: pin = 3-2-1 (2-D: 2-1)
+   rigid-body supports; drop = every DOF of the piece. */
+int aug_detach_pin(const aug_mesh *m, const aug_pieces *p, int32_t id, const aug_bdelta *extra,
+                   aug_bdelta *b, aug_err *e);
+int aug_detach_drop(const aug_mesh *m, const aug_pieces *p, int32_t id, const aug_bdelta *extra,
+                    aug_bdelta *b, aug_err *e);
+
+/* ---- Planar cut (AMPS and the augmented-matrix paper, sec. 4.3.2) ---- */
+typedef struct aug_plane_cut {
+    int dim;
+    double n[3], d, adv[3];      /* plane n.x = d, unit advance direction */
+    int64_t ne;                  /* elements classified */
+    unsigned char *side;         /* per element: 1 on the + side (n.centroid > d) */
+    int64_t ncut, next;
+    int32_t *nodes;              /* cut nodes in advance order; next = first not yet cut */
+    int64_t nface;               /* faces between + and - elements at planning */
+} aug_plane_cut;
+/* Classify elements, collect and order the cut nodes. adv NULL: away from the
+   fixed set (see man/cut.1). Fails (AUG_EDATA) when the plane misses the mesh. */
+int aug_plane_plan(aug_plane_cut *pc, const aug_mesh *m, const aug_adj *adj,
+                   const double n[3], double d, const double *adv, aug_err *e);
+/* Duplicate the next count cut nodes; appends to seg the edges (2*dim doubles
+   each) of the faces this opens. */
+int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg,
+                   int64_t *nseg, aug_err *e);
+void aug_plane_free(aug_plane_cut *pc);
+
+/* ---- Cut paths in 2-D (thesis ch. 3.1, 3.6) ---- */
+enum { AUG_CURVE_LINE = 1, AUG_CURVE_CUBIC = 2, AUG_CURVE_RQUAD = 3 };
+typedef struct aug_curve {
+    int kind;
+    double p[4][2];              /* control points: line 2, cubic 4, rational quadratic 3 */
+    double w;                    /* middle weight of the rational quadratic (end weights 1) */
+    int newstroke;               /* 1: does not continue the previous curve */
+    int line;                    /* line of the path file it came from */
+} aug_curve;
+void aug_curve_eval(const aug_curve *c, double t, double xy[2]);
+void aug_curve_deriv(const aug_curve *c, double t, double dxy[2]);
+/* Parameters t in [t0, t1] where the curve meets the line through a and b,
+   increasing; returns their count (<= 3), -1 when the curve lies on the line. */
+int aug_curve_line_roots(const aug_curve *c, const double a[2], const double b[2], double t0,
+                         double t1, double t[3]);
+double aug_curve_length(const aug_curve *c);
+
+typedef struct aug_path {
+    int n;
+    aug_curve *c;
+    double *s0;                  /* arc length at the start of curve i */
+    double total;
+    double *tab;                 /* per curve: arc length at AUG_PATH_NS+1 equal parameter steps */
+} aug_path;
+#define AUG_PATH_NS 256
+/* Parse a path file (format in man/cut.1); errors name the line. */
+int aug_path_parse(FILE *f, const char *name, aug_path *p, aug_err *e);
+void aug_path_free(aug_path *p);
+/* Curve parameter at arc length s within curve i. */
+double aug_path_param(const aug_path *p, int i, double s);
+
+/* Pending cut edges: node pairs to be separated. */
+typedef struct aug_edgeset {
+    int64_t n, cap;
+    int64_t *key;                /* open addressing; -1 empty, -2 deleted */
+} aug_edgeset;
+int aug_edgeset_add(aug_edgeset *s, int32_t a, int32_t b);
+int aug_edgeset_has(const aug_edgeset *s, int32_t a, int32_t b);
+void aug_edgeset_del(aug_edgeset *s, int32_t a, int32_t b);
+void aug_edgeset_free(aug_edgeset *s);
+
+/* Split mode surgery on tri3 meshes: insert a node on edge (a, b) at parameter
+   s (0 < s < 1) splitting both triangles that share the edge, or inside
+   triangle t at barycentric l. Cut edges through the split edge follow it. */
+int32_t aug_split_edge(aug_edit *ed, aug_edgeset *cut, int32_t a, int32_t b, double s,
+                       aug_err *e);
+int32_t aug_split_tri(aug_edit *ed, int64_t t, const double l[3], aug_err *e);
+
+enum { AUG_PATH_SNAP = 0, AUG_PATH_SPLIT = 1 };
+typedef struct aug_path_cut {
+    const aug_path *path;
+    int mode;
+    double tol;                  /* snap tolerance, relative to the edge or altitude */
+    double s;                    /* arc length realised so far */
+    int32_t node;                /* walk state: current node, -1 outside the mesh */
+    int curve;                   /* curve of the walk state */
+    double t;
+    aug_edgeset cut;             /* the cut edges (node pairs) realised so far */
+    int32_t *twin;               /* copies of the state node made by the last step */
+    int64_t ntwin;
+} aug_path_cut;
+int aug_path_cut_init(aug_path_cut *pc, const aug_path *path, int mode, double tol);
+void aug_path_cut_free(aug_path_cut *pc);
+/* Realise the path up to arc length s_to: walk, insert (split) or snap, then
+   separate the cut edges; appends the realised segments to seg. */
+int aug_path_step(aug_path_cut *pc, aug_edit *ed, double s_to, double **seg, int64_t *nseg,
+                  aug_err *e);
+
+/* ---- Boundary conditions a cut adds ----
+   Constrain (value v[dim]) every DOF of the nodes in a named set or a box
+   (lo, hi: dim values each) of the current mesh. */
+int aug_cut_constrain_set(const aug_mesh *m, const char *set, const double *v, aug_bdelta *b,
+                          aug_err *e);
+int aug_cut_constrain_box(const aug_mesh *m, const double *lo, const double *hi,
+                          const double *v, aug_bdelta *b, aug_err *e);
+/* Pull forces (AMPS sec. 4.3.2): every copy made by d (a new node at its parent's
+   place) gets F along the direction from its parent's element star to its own,
+   the parent the opposite force. m: the mesh after d; adj current. */
+int aug_cut_pull(const aug_mesh *m, const aug_adj *adj, const aug_mdelta *d, double F,
+                 aug_bdelta *b, aug_err *e);
+
+/* ---- One cut step: edit -> MDLT, BDLT, UPDT, pATH (bin/cut.c and the tests) ---- */
+enum { AUG_DETACH_ERROR = 0, AUG_DETACH_PIN = 1, AUG_DETACH_DROP = 2 };
+typedef struct aug_cutter {
+    aug_mesh *m;                 /* the current mesh (updated by every step) */
+    aug_adj adj;
+    aug_facenbr fn;
+    aug_edit ed;
+    aug_pieces pieces;
+    int64_t nn0, nfree0;         /* cut-matrix numbering (formats/stream.md 7.2) */
+    const int32_t *map0;
+    int policy;                  /* AUG_DETACH_* */
+    int one_piece;               /* the last analysis found one face-connected piece */
+    double pull;                 /* pull force per copy, 0: none */
+} aug_cutter;
+typedef struct aug_cut_step {
+    int32_t step;
+    aug_mdelta d;
+    int32_t *oldconn;            /* d->elem's connectivity before the step */
+    int64_t nn_before, ne_before;
+    aug_bdelta bc;               /* constraints and loads of the step (may stay empty) */
+    aug_update u;
+    double *seg;                 /* pATH segments, 2*dim doubles each */
+    int64_t nseg;
+    int64_t npieces;             /* face-connected pieces after the step */
+    int32_t bad_first;           /* first element of the first detached piece, -1 */
+    int64_t bad_size;
+} aug_cut_step;
+int aug_cutter_init(aug_cutter *c, aug_mesh *m, int64_t nn0, const int32_t *map0,
+                    int64_t nfree0, aug_err *e);
+void aug_cutter_free(aug_cutter *c);
+/* Start a step: geometry then edits c->ed and appends to s->seg. */
+void aug_cut_step_init(aug_cut_step *s, int32_t step);
+void aug_cut_step_free(aug_cut_step *s);
+/* End the geometry: MDLT from the edit, applied to the mesh. The caller may
+   then add constraints to s->bc (they see the new nodes). */
+int aug_cutter_apply(aug_cutter *c, aug_cut_step *s, aug_err *e);
+/* Pull forces, detached pieces (policy), the UPDT; applies s->bc to the mesh.
+   Under AUG_DETACH_ERROR a detached piece is AUG_ESINGULAR naming it. */
+int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e);
+
+#endif

@@ -1,0 +1,338 @@
+/* augcut solver layer: the cut matrix K_t as K_0 plus accumulated principal
+   submatrix updates (UPDT), sparse-RHS solves on a simplicial LDL' factor, AMPS
+   (paper 001), the unsymmetric augmented GMRES method (paper 000), the baselines
+   (re-factorization, CHOLMOD row updates, Jacobi PCG), background
+   re-factorization, and the solver session that runs them side by side. */
+#ifndef AUG_SOLVE_H
+#define AUG_SOLVE_H
+
+#include <cholmod.h>
+#include "aug_update.h"
+
+/* Monotonic wall clock in ms (wallclock.c). */
+double aug_wall_ms(void);
+
+/* ---- cumulative update (cutmat.c) -------------------------------------- */
+
+/* K_t = Kbar - P_S Ebar P_S', f_t = [f_b; 0] + P_S dF, relative to a base
+   matrix K_b of order nb: Kbar = blkdiag(K_b, I), S the union of every step's
+   Hbar (AMPS eq. 3.1 composed over steps), in insertion order. */
+typedef struct aug_cum {
+    int64_t nb;          /* order of the base */
+    int64_t n;           /* order of K_t */
+    int64_t ns, cap;     /* |S| and capacity */
+    int32_t *S;          /* S[p]: matrix index at position p */
+    int32_t *pos;        /* pos[i]: position of index i in S, -1 if none (size pcap) */
+    int64_t pcap;
+    double *E;           /* Ebar = Kbar - K_t on S x S, column-major, leading dim cap */
+    double *dF;          /* f_t - [f_b; 0] on S */
+} aug_cum;
+
+int aug_cum_init(aug_cum *c, int64_t nb, aug_err *e);
+void aug_cum_free(aug_cum *c);
+/* Compose one step: K_t = [K_{t-1} 0; 0 I_k] - Hbar (E + [0 0; 0 I_k]) Hbar'
+   (formats/stream.md 7.2) into (S, Ebar, dF). Validates H against n. */
+int aug_cum_apply(aug_cum *c, const aug_update *u, aug_err *e);
+/* Number of positions of S that are base DOFs (index < nb). */
+int64_t aug_cum_morig(const aug_cum *c);
+
+/* The explicit cut matrix: K_0 (both triangles) plus the cumulative update
+   relative to K_0. */
+typedef struct aug_cutmat {
+    cholmod_sparse *K0;  /* full symmetric (stype 0), sorted */
+    int64_t n0;
+    double *f0;
+    aug_cum cum;
+    double *work;        /* n-sized scratch */
+    int64_t wcap;
+} aug_cutmat;
+
+int aug_cutmat_init(aug_cutmat *m, const cholmod_sparse *K0, const double *f0,
+                    cholmod_common *cm, aug_err *e);
+void aug_cutmat_free(aug_cutmat *m, cholmod_common *cm);
+int aug_cutmat_apply(aug_cutmat *m, const aug_update *u, aug_err *e);
+static inline int64_t aug_cutmat_n(const aug_cutmat *m) { return m->cum.n; }
+/* y = K_t x */
+void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y);
+/* f = f_t */
+void aug_cutmat_rhs(const aug_cutmat *m, double *f);
+/* ||K_t x - f_t|| / ||f_t|| (2-norms; absolute residual when f_t = 0). */
+double aug_cutmat_relres(aug_cutmat *m, const double *x);
+/* K_t as a CHOLMOD matrix, upper triangle (stype 1), sorted; exact zeros of
+   changed entries are dropped. pad extra identity columns are appended. */
+cholmod_sparse *aug_cutmat_sparse(const aug_cutmat *m, int64_t pad, cholmod_common *cm);
+/* Column j of K_t (both triangles): nnz entries into idx/val (capacity from
+   aug_cutmat_colmax), rows increasing. */
+int64_t aug_cutmat_column(const aug_cutmat *m, int64_t j, int32_t *idx, double *val,
+                          double *scratch);
+int64_t aug_cutmat_colmax(const aug_cutmat *m);
+
+/* ---- base factor and sparse triangular solves (ldl_sparse.c) ----------- */
+
+/* Bases of at least this order also get a supernodal factor for full
+   back-substitutions (below it the simplicial loop is as fast). */
+#define AUG_SUPERNODAL_MIN 2000
+
+/* A simplicial LDL' factor P K_b P' = L D L' with its elimination tree and the
+   base solution a_b = K_b^-1 f_b. Columns hold D(j,j) first, then L below. */
+typedef struct aug_base {
+    cholmod_factor *L;   /* owned; simplicial LDL', int indices */
+    int64_t n;
+    const int *Lp, *Li, *Lnz;
+    const double *Lx;
+    int32_t *parent;     /* etree parent of permuted column j, -1 at a root */
+    int32_t *perm;       /* perm[k]: original index of permuted position k */
+    int32_t *pinv;       /* pinv[i]: permuted position of original index i */
+    double *a;           /* a_b (original order) */
+    int32_t step;        /* step whose matrix K_b is (-1: K_0) */
+    int refs;            /* shared by methods: freed when it drops to 0 */
+    cholmod_factor *Ls;  /* supernodal L L' with the same permutation, for
+                            full back-substitutions (NULL: none) */
+    double *sqrtd;       /* sqrt(D(j,j)), permuted order, when Ls is set */
+} aug_base;
+
+/* Take L (simplicial or supernodal: converted to simplicial LDL'), check
+   that its pattern is closed under its elimination tree (struct L(:,j) minus
+   the parent lies in struct L(:,parent)), and solve a_b = K_b^-1 f_b. A
+   pattern that fails the check is re-factored from K_b with the same
+   permutation. Returns NULL on failure (L is freed). */
+aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double *fb,
+                       int32_t step, cholmod_common *cm, aug_err *e);
+void aug_base_release(aug_base *b, cholmod_common *cm);
+static inline double aug_base_d(const aug_base *b, int64_t j) { return b->Lx[b->Lp[j]]; }
+
+/* Elimination-tree path of permuted column p to its root (paper 000 thm 3):
+   writes it ascending into path, returns its length. */
+int64_t aug_ldl_path(const aug_base *b, int32_t p, int32_t *path);
+/* Closure in G(L) of the permuted indices start[0..ns): the union of their
+   etree paths, ascending, into out; mark (size n, all 0 on entry and exit) is
+   workspace. Returns the size. */
+int64_t aug_ldl_closure(const aug_base *b, const int32_t *start, int64_t ns, int32_t *out,
+                        unsigned char *mark);
+/* x := L^-1 x over the closed set set[0..k) (ascending); x is zero outside it.
+   set = NULL: all columns. */
+void aug_ldl_lsolve(const aug_base *b, const int32_t *set, int64_t k, double *x);
+/* x := D^-1 x over set (NULL: all). */
+void aug_ldl_dsolve(const aug_base *b, const int32_t *set, int64_t k, double *x);
+/* x := L^-T x over all columns, given x = D^-1 z: through the supernodal
+   factor Ls = L D^1/2 when the base has one (BLAS), else column by column.
+   X/Yw/Ew are cholmod_solve2 workspaces kept by the caller. Returns 0 or -1. */
+int aug_ldl_ltsolve_all(const aug_base *b, double *x, cholmod_dense **X, cholmod_dense **Yw,
+                        cholmod_dense **Ew, cholmod_common *cm);
+/* x := L^-T x computed only on the closed set (NULL: all); components outside
+   it are left untouched and are never read. */
+void aug_ldl_ltsolve(const aug_base *b, const int32_t *set, int64_t k, double *x);
+/* x = K_b^-1 b (original order, full; work of size n). */
+void aug_ldl_solve_full(const aug_base *b, const double *rhs, double *x, double *work);
+
+/* ---- AMPS (paper 001) -------------------------------------------------- */
+
+/* V = L^-1 P H, one column per base DOF of S, each only over its etree
+   path (amps_reach.c); G = H'K^-1H = V'D^-1V grown by trapezoidal
+   augmentation (amps_memo.c, eqs. 3.23-3.27). */
+typedef struct aug_memo {
+    int64_t m, mcap;     /* columns (base DOFs of S, in S order) */
+    int64_t *vp;         /* column c: entries vp[c] .. vp[c+1]-1 */
+    int32_t *vi;         /* permuted row indices (ascending: the etree path) */
+    double *vx;
+    int64_t vnz, vcap;
+    int32_t *col;        /* col[c]: position in S of memo column c */
+    int32_t *cpos;       /* cpos[pos in S]: memo column or -1 (size pcap) */
+    int64_t pcap;
+    double *G;           /* m x m symmetric, column-major, leading dim mcap */
+    int use_cholmod;     /* 1: V by cholmod_solve2 with Bset (for comparison) */
+    int64_t reach_new;   /* sum of path lengths computed in the last grow */
+    int64_t m_new;
+} aug_memo;
+
+void aug_memo_init(aug_memo *M);
+void aug_memo_free(aug_memo *M);
+/* V columns for the base DOFs of S not yet in the memo (amps_reach.c). */
+int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_common *cm,
+                   aug_err *e);
+/* Trapezoidal augmentation of G for the columns added by aug_memo_reach
+   (eq. 3.27): G[i,j] = V_i' D^-1 V_j, summed over the common etree suffix. */
+int aug_memo_grow(aug_memo *M, const aug_base *b, aug_err *e);
+
+/* S2 of eq. 3.21 on the active positions A of S (Ebar column nonzero: the
+   Dirichlet/load-only positions drop out, sec. 3.4), LU-factored by LAPACK
+   (amps_schur.c). */
+typedef struct aug_schur {
+    int64_t na, acap;
+    int32_t *A;          /* active positions of S, in activation order */
+    unsigned char *act;  /* act[pos] */
+    int64_t pcap;
+    double *S2;          /* na x na LU factors */
+    int *ipiv;
+    double *Ga;          /* scratch: Gbar_AA */
+    double *sr;          /* row and column scalings (2 na) */
+    int64_t scap;
+    double rcond;
+    int detsign;
+    int singular;
+    int64_t nnzE;
+} aug_schur;
+
+void aug_schur_init(aug_schur *s);
+void aug_schur_free(aug_schur *s);
+/* Form S2 = I - Gbar_AA Ebar_AA and factor it; singular is set when LU fails,
+   rcond < rcond_min, or det(S2) <= 0 (K_t not positive definite: S2 =
+   Gbar M with M the Schur complement of K_t on A). */
+int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double rcond_min,
+                     aug_err *e);
+/* x := S2^-1 x (length na). */
+void aug_schur_solve(const aug_schur *s, double *x);
+
+/* The AMPS solution (amps_solve.c): rhs of eq. 3.21 extended to loads changed
+   on H, S2 solve, and eq. 3.20: a on A from a2, elsewhere
+   a_b + P'L^-T D^-1 V (dF + Ebar a2) over the closure of the requested DOFs. */
+typedef struct aug_amps {
+    aug_memo memo;
+    aug_schur schur;
+    double *x;           /* a2 on A */
+    double *w, *y;       /* scratch: S-sized and n_b-sized */
+    int64_t xcap, wcap;
+    int32_t *q;          /* output closure (permuted, ascending) */
+    unsigned char *mark;
+    int64_t nq;
+    int64_t closure_v;   /* |union of V paths| (closure of H in L) */
+    cholmod_dense *X, *Yw, *Ew; /* cholmod_solve2 workspaces (supernodal path) */
+} aug_amps;
+
+void aug_amps_init(aug_amps *a);
+void aug_amps_free(aug_amps *a);
+/* Reset the memo (a new base). */
+void aug_amps_reset(aug_amps *a);
+/* One step. out[0..nout) are requested DOFs of K_t (NULL: all); u receives
+   the solution (length c->n, valid at least at the requested DOFs and on S).
+   times[0..4]: reach, memo, schur, solve (ms). */
+int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
+                  int64_t nout, double rcond_min, double *u, double times[4],
+                  cholmod_common *cm, aug_err *e);
+/* Solve K_t x = r for a general r with the current factorization (used by
+   iterative refinement; full vectors). */
+int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
+                           const double *r, double *x, aug_err *e);
+
+/* ---- unsymmetric augmented GMRES (gmres_aug.c, paper 000) -------------- */
+
+enum { AUG_PREC_NONE = 0, AUG_PREC_D = 1, AUG_PREC_SPAI = 2 };
+
+typedef struct aug_gmres aug_gmres;
+aug_gmres *aug_gmres_new(int prec, int restart, int maxit, double tol, aug_err *e);
+void aug_gmres_free(aug_gmres *g);
+/* Tridiagonal SPAI of K_b (min ||K_b S - I||_F over tridiagonal S, paper 000
+   sec. 3.5), computed once per base. */
+int aug_gmres_set_base(aug_gmres *g, const aug_base *b, const cholmod_sparse *Kbfull,
+                       aug_err *e);
+/* One step: (Hbar' Kbar^-1 J) a2 = Hbar' Kbar^-1 f_t (eq. 17) with J = K_t Hbar,
+   then a1 = Kbar^-1 (f_t - J a2) (eq. 16). times: setup, rhs, iter, solve. */
+int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, const aug_cutmat *cm_t,
+                   const int32_t *out, int64_t nout, double *u, double times[4], aug_err *e);
+int aug_gmres_solve_general(aug_gmres *g, const aug_base *b, const aug_cum *c,
+                            const double *r, double *x, aug_err *e);
+int aug_gmres_iters(const aug_gmres *g);
+int aug_gmres_converged(const aug_gmres *g);
+int64_t aug_gmres_closure_j(const aug_gmres *g);
+int64_t aug_gmres_closure_h(const aug_gmres *g);
+
+/* ---- baselines --------------------------------------------------------- */
+
+/* refactor.c: CHOLMOD analyze (when the pattern changed) + numeric
+   factorization + solve of K_t. */
+typedef struct aug_refactor {
+    cholmod_factor *L;
+    int64_t n, nnz;
+    int *Kp, *Ki;        /* pattern of the last analyzed matrix */
+    int analyzed;        /* 1 if the last step ran the symbolic analysis */
+    int singular;
+} aug_refactor;
+void aug_refactor_init(aug_refactor *r);
+void aug_refactor_free(aug_refactor *r, cholmod_common *cm);
+/* times: assemble, analyze, factor, solve */
+int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double times[4],
+                      cholmod_common *cm, aug_err *e);
+int aug_refactor_solve(aug_refactor *r, const double *rhs, double *x, cholmod_common *cm,
+                       aug_err *e);
+
+/* rowupdate.c: cholmod_rowdel / cholmod_rowadd of every changed row of a
+   simplicial LDL' of blkdiag(K_t, I_spare); new DOFs take spare rows. */
+typedef struct aug_rowupd aug_rowupd;
+aug_rowupd *aug_rowupd_new(const aug_cutmat *m, const aug_base *b0, int64_t spare,
+                           cholmod_common *cm, aug_err *e);
+void aug_rowupd_free(aug_rowupd *r, cholmod_common *cm);
+/* times: update, solve; rows = rows changed this step */
+int aug_rowupd_step(aug_rowupd *r, const aug_cutmat *m, const aug_update *u, double *x,
+                    double times[2], int64_t *rows, int *rebuilt, int *singular,
+                    cholmod_common *cm, aug_err *e);
+int aug_rowupd_solve(aug_rowupd *r, int64_t n, const double *rhs, double *x, cholmod_common *cm,
+                     aug_err *e);
+
+/* pcg.c: Jacobi-preconditioned CG on K_t (upper-stored), from x (warm start)
+   to ||f - K x|| <= tol ||f||. Returns iterations; *converged, *breakdown
+   (p'Kp <= 0: not positive definite). */
+int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int maxit,
+            int *converged, int *breakdown, double *relres, cholmod_common *cm);
+
+/* ---- background re-factorization (bgfactor.c, paper 000 sec. 3.6) ------ */
+
+typedef struct aug_bg aug_bg;
+aug_bg *aug_bg_new(int nthreads);
+void aug_bg_free(aug_bg *bg);
+/* Start re-factoring K (taken) with load f (copied) in a thread; step is the
+   step whose matrix K is. 0 or error (a job is running). */
+int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, int32_t step, aug_err *e);
+int aug_bg_running(const aug_bg *bg);
+/* 1 when the job finished (without waiting), 0 otherwise. */
+int aug_bg_done(aug_bg *bg);
+/* Wait for the job; returns the new base (caller owns a reference), or NULL
+   with e filled (e.g. the matrix was not positive definite). */
+aug_base *aug_bg_join(aug_bg *bg, aug_err *e);
+int32_t aug_bg_step(const aug_bg *bg);
+
+/* ---- the session (solver.c) -------------------------------------------- */
+
+enum { AUG_M_AMPS, AUG_M_GMRES, AUG_M_REFACTOR, AUG_M_ROWUPDATE, AUG_M_PCG, AUG_M_COUNT };
+extern const char *const aug_method_names[AUG_M_COUNT];
+/* "amps,gmres,..." into order[] (returns count, -1 on an unknown name). */
+int aug_parse_methods(const char *s, int order[AUG_M_COUNT]);
+
+typedef struct aug_solver_opts {
+    int nmeth;
+    int order[AUG_M_COUNT];
+    double tol;          /* iterative methods */
+    int maxit;           /* pcg / gmres iteration cap */
+    int restart;         /* gmres restart */
+    int refine_iter;
+    int check;           /* err_direct against a fresh CHOLMOD solve */
+    int background;      /* background re-factorization for amps/gmres */
+    int bg_lag;          /* > 0: swap exactly bg_lag steps after the start (deterministic) */
+    int gmres_prec;
+    int64_t spare;       /* rowupdate spare rows */
+    double rcond_min;
+    int reach_cholmod;   /* amps V columns by cholmod_solve2 with Bset */
+    int nthreads;
+} aug_solver_opts;
+void aug_solver_opts_default(aug_solver_opts *o);
+
+typedef struct aug_solver aug_solver;
+/* K0 upper (stype 1), f0, the FACT factor of K0 (taken). */
+aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
+                           const aug_solver_opts *o, cholmod_common *cm, aug_err *e);
+void aug_solver_free(aug_solver *s);
+/* One cut step: apply u, run every method. out: requested DOFs of K_t (NULL:
+   all). Returns 0, or an error (data errors, out of memory); a singular step is
+   not an error: see aug_solver_singular. */
+int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int64_t nout,
+                    int flags, aug_err *e);
+int64_t aug_solver_n(const aug_solver *s);
+const double *aug_solver_field(const aug_solver *s, int method);
+const aug_kv *aug_solver_stat(const aug_solver *s, int method);
+const aug_kv *aug_solver_time(const aug_solver *s, int method);
+int aug_solver_singular(const aug_solver *s, int method);
+int aug_solver_converged(const aug_solver *s, int method);
+/* f_t of the current step (length n). */
+const double *aug_solver_rhs(const aug_solver *s);
+const aug_cutmat *aug_solver_cutmat(const aug_solver *s);
+
+#endif

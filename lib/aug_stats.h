@@ -1,0 +1,103 @@
+/* augcut stats layer: mesh quality summaries, the deterministic text dump of
+   every record, the per-step (step, method) table and its CSV, the stream
+   summary, and the VTK .vtu export. These functions write text to a FILE the
+   caller gives them; they never print anywhere else and never exit. */
+#ifndef AUG_STATS_H
+#define AUG_STATS_H
+
+#include "aug_update.h"
+
+/* Quality of a whole mesh (aug_elem_quality per element): totals, extremes and
+   fixed-bin histograms. Non-finite qualities (degenerate elements after a cut)
+   are counted in nbad and left out of the extremes and histograms. */
+#define AUG_QHIST 8
+extern const double aug_qhist_aspect[AUG_QHIST + 1]; /* bin edges, last = +inf */
+extern const double aug_qhist_angle[AUG_QHIST + 1];  /* degrees */
+typedef struct aug_qstats {
+    int64_t ne, nbad;
+    double measure;                  /* total volume (tet4) or area (tri3) */
+    double asp_min, asp_mean, asp_max;
+    double ang_min, ang_mean, ang_max; /* min angle (tri3) / min dihedral (tet4), degrees */
+    double edge_ratio_max;
+    int64_t asp_hist[AUG_QHIST];
+    int64_t ang_hist[AUG_QHIST];
+} aug_qstats;
+void aug_mesh_qstats(const aug_mesh *m, aug_qstats *s);
+/* Histogram bin of value v for edges[0..AUG_QHIST] (v below edges[0] goes to bin 0). */
+int aug_qhist_bin(const double *edges, double v);
+
+/* Layout and structure checks of the payloads of DOFM KMAT FVEC FACT pATH
+   fELD (sizes against counts, DOFM numbering, CSC structure of KMAT and FACT,
+   FACT's permutation); other types pass. */
+int aug_check_payload(const aug_rec *rec, aug_err *e);
+
+/* --dump: one header line per record "#N TYPE step=S flags=F len=L" (L the
+   inflated payload length) and its fields decoded per formats/stream.md, floats
+   as %.17g. The dump keeps the mesh it has read to decode later records. */
+typedef struct aug_dump {
+    int no_times;     /* leave out tIMe records */
+    aug_mesh mesh;    /* mesh records absorbed so far (dimension, element size) */
+} aug_dump;
+void aug_dump_init(aug_dump *d, int no_times);
+void aug_dump_free(aug_dump *d);
+/* The HEAD record (consumed by aug_reader_open) as record #0. */
+int aug_dump_head(FILE *out, const aug_reader *r, aug_err *e);
+/* One record (TAIL included); payloads that do not match their layout fail. */
+int aug_dump_record(FILE *out, aug_dump *d, const aug_rec *rec, aug_err *e);
+/* Name of a CHOLMOD ordering code (FACT ordering field): "amd", "metis", ... */
+const char *aug_ordering_name(int32_t k);
+
+/* Per-step table: one row per (step, method) from sTAt and tIMe records with
+   the same step and tag; rows in stream order. */
+typedef struct aug_steprow {
+    int32_t step;
+    char method[16];
+    int has_stat, has_time;
+    aug_kv stat, time;
+} aug_steprow;
+typedef struct aug_steptab {
+    aug_steprow *row;
+    size_t n, cap;
+} aug_steptab;
+void aug_steptab_init(aug_steptab *t);
+void aug_steptab_free(aug_steptab *t);
+/* Add a sTAt or tIMe record (other types are ignored). */
+int aug_steptab_add(aug_steptab *t, const aug_rec *rec, aug_err *e);
+/* Value of key in row r: sTAt first, then tIMe; NAN when absent (*found = 0). */
+double aug_steprow_get(const aug_steprow *r, const char *key, int *found);
+/* CSV: step,method,time_ms,relres,m,k then every other key of any row, sorted
+   by name; an empty cell where a row lacks the key. */
+int aug_steptab_csv(FILE *out, const aug_steptab *t, aug_err *e);
+
+/* Median of v[0..n-1] (sorts v in place); NAN when n = 0. */
+double aug_median(double *v, size_t n);
+
+/* Stream summary: fed every record, keeps counts, the mesh (with the mesh
+   deltas of steps <= step_limit applied), the last displacement field of a
+   step <= step_limit, matrix and per-step figures. */
+typedef struct aug_summary aug_summary;
+aug_summary *aug_summary_new(const aug_reader *r, int32_t step_limit, aug_err *e);
+void aug_summary_free(aug_summary *s);
+int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e);
+/* Mark the end: rec is the TAIL record (NULL when the stream broke off). */
+void aug_summary_end(aug_summary *s, const aug_rec *tail);
+int aug_summary_print(FILE *out, aug_summary *s, const char *name, aug_err *e);
+const aug_steptab *aug_summary_steps(const aug_summary *s);
+/* Highest step number seen (-1 when the stream has no per-step record). */
+int32_t aug_summary_last_step(const aug_summary *s);
+/* Mesh after the mesh deltas of steps <= step_limit (NULL without a mesh). */
+const aug_mesh *aug_summary_mesh(const aug_summary *s);
+/* Last displacement field (fELD kind 0) with step <= step_limit: its step
+   (-1 if none), and values scattered to nn*dim with mask[nn] = 1 on the nodes
+   it lists. Returns AUG_OK or fills e; *u and *mask are NULL when there is none. */
+int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned char **mask,
+                      aug_err *e);
+
+/* VTK XML UnstructuredGrid (ASCII) of m: points (z = 0 in 2-D), tet (10) or
+   triangle (5) cells, cell data material / material_id / aspect_ratio /
+   min_angle, and when u is given point data displacement (3 components) and
+   displacement_mask (mask, or all 1 when mask is NULL). */
+int aug_vtk_write(FILE *out, const aug_mesh *m, const double *u, const unsigned char *mask,
+                  aug_err *e);
+
+#endif

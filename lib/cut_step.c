@@ -1,0 +1,128 @@
+/* One cut step from the mesh edit to its records: MDLT applied to the mesh,
+   pull forces and detached pieces as BDLT, the UPDT of AMPS eq. 3.1. */
+#include <stdlib.h>
+#include <string.h>
+#include "aug_cut.h"
+
+int aug_cutter_init(aug_cutter *c, aug_mesh *m, int64_t nn0, const int32_t *map0,
+                    int64_t nfree0, aug_err *e)
+{
+    aug_err_clear(e);
+    memset(c, 0, sizeof *c);
+    c->m = m;
+    c->nn0 = nn0;
+    c->map0 = map0;
+    c->nfree0 = nfree0;
+    if (aug_adj_build(&c->adj, m)) goto nomem;
+    if (aug_facenbr_build(&c->fn, m, &c->adj)) goto nomem;
+    aug_edit_init(&c->ed, m, &c->adj);
+    return 0;
+nomem:
+    aug_cutter_free(c);
+    return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+}
+
+void aug_cutter_free(aug_cutter *c)
+{
+    aug_adj_free(&c->adj);
+    aug_facenbr_free(&c->fn);
+    aug_pieces_free(&c->pieces);
+    aug_edit_free(&c->ed);
+    memset(c, 0, sizeof *c);
+}
+
+void aug_cut_step_init(aug_cut_step *s, int32_t step)
+{
+    memset(s, 0, sizeof *s);
+    s->step = step;
+    aug_mdelta_init(&s->d);
+    aug_bdelta_init(&s->bc);
+    aug_update_init(&s->u);
+    s->bc.step = step;
+    s->bad_first = -1;
+}
+
+void aug_cut_step_free(aug_cut_step *s)
+{
+    aug_mdelta_free(&s->d);
+    aug_bdelta_free(&s->bc);
+    aug_update_free(&s->u);
+    free(s->oldconn);
+    free(s->seg);
+    memset(s, 0, sizeof *s);
+}
+
+int aug_cutter_apply(aug_cutter *c, aug_cut_step *s, aug_err *e)
+{
+    s->nn_before = c->m->nn;
+    s->ne_before = c->m->ne;
+    int rc = aug_edit_end(&c->ed, s->step, &s->d, &s->oldconn, e);
+    if (!rc) rc = aug_mesh_apply(c->m, &s->d, e);
+    if (rc) return rc;
+    aug_edit_begin(&c->ed);
+    int64_t n = s->d.nmod + s->d.nadd;
+    int32_t *ch = aug_malloc((size_t)n * sizeof *ch + 1);
+    if (!ch) return aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
+    memcpy(ch, s->d.elem, (size_t)s->d.nmod * sizeof *ch);
+    for (int64_t i = 0; i < s->d.nadd; i++) ch[s->d.nmod + i] = (int32_t)(s->ne_before + i);
+    rc = aug_facenbr_update(&c->fn, c->m, &c->adj, ch, n);
+    free(ch);
+    if (rc) return aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
+    /* one piece stays one piece when what the step touched still hangs together */
+    if (c->one_piece && !aug_facenbr_local_connected(&c->fn, c->m->ne / 4 + 1024)) c->one_piece = 0;
+    return 0;
+}
+
+int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e)
+{
+    aug_err_clear(e);
+    int rc;
+    s->bc.step = s->step;
+    if (c->pull != 0 && (rc = aug_cut_pull(c->m, &c->adj, &s->d, c->pull, &s->bc, e))) return rc;
+    if (aug_bdelta_finish(&s->bc)) goto nomem;
+    /* a piece without support: report it, or hold it and look again */
+    for (int round = 0;; round++) {
+        aug_pieces *pp = &c->pieces;
+        rc = c->one_piece ? aug_detach_find_one(c->m, &c->adj, &s->bc, pp, e)
+                          : aug_detach_find(c->m, &c->adj, &c->fn, &s->bc, pp, e);
+        if (rc) return rc;
+        s->npieces = pp->np;
+        c->one_piece = pp->np == 1;
+        if (pp->nbad == 0) break;
+        int32_t id = pp->bad[0];
+        if (round == 0) {
+            s->bad_first = pp->first[id];
+            s->bad_size = pp->size[id];
+            s->d.flags |= AUG_STEP_DETACHED;
+        }
+        if (c->policy == AUG_DETACH_ERROR || round > pp->np) {
+            aug_err_set(e, AUG_ESINGULAR, -1, "MDLT",
+                        "step %d: the piece of %lld elements holding element %d has no Dirichlet "
+                        "support (%lld pieces; use --detached pin or drop)",
+                        (int)s->step, (long long)pp->size[id], (int)pp->first[id], (long long)pp->np);
+            return AUG_ESINGULAR;
+        }
+        aug_bdelta add;
+        aug_bdelta_init(&add);
+        if (c->policy == AUG_DETACH_PIN) {
+            rc = aug_detach_pin(c->m, pp, id, &s->bc, &add, e);
+            s->d.flags |= AUG_STEP_PINNED;
+        } else {
+            rc = aug_detach_drop(c->m, pp, id, &s->bc, &add, e);
+            s->d.flags |= AUG_STEP_DROPPED;
+        }
+        for (int64_t i = 0; rc == 0 && i < add.nfix; i++)
+            if (aug_bdelta_fix(&s->bc, add.fix_dof[i], add.fix_val[i])) rc = AUG_ENOMEM;
+        aug_bdelta_free(&add);
+        if (rc == AUG_ENOMEM) goto nomem;
+        if (rc) return rc;
+        if (aug_bdelta_finish(&s->bc)) goto nomem;
+    }
+    rc = aug_update_build_after(c->m, s->nn_before, s->ne_before, s->oldconn, &s->d, &s->bc,
+                                c->nn0, c->map0, c->nfree0, &s->u, e);
+    if (rc) return rc;
+    s->u.step = s->step;
+    return aug_mesh_apply_bc(c->m, &s->bc, e);
+nomem:
+    return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
+}

@@ -1,0 +1,282 @@
+/* The cut matrix K_t kept as K_0 plus the composed principal submatrix updates
+   (formats/stream.md 7.2, AMPS eq. 3.1): residuals, --check, refactor baselines. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "aug_solve.h"
+
+int aug_cum_init(aug_cum *c, int64_t nb, aug_err *e)
+{
+    memset(c, 0, sizeof *c);
+    c->nb = c->n = nb;
+    c->pcap = nb + 64;
+    c->pos = aug_malloc((size_t)c->pcap * sizeof *c->pos);
+    if (!c->pos) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    for (int64_t i = 0; i < c->pcap; i++) c->pos[i] = -1;
+    return 0;
+}
+
+void aug_cum_free(aug_cum *c)
+{
+    free(c->S);
+    free(c->pos);
+    free(c->E);
+    free(c->dF);
+    memset(c, 0, sizeof *c);
+}
+
+int64_t aug_cum_morig(const aug_cum *c)
+{
+    int64_t k = 0;
+    for (int64_t p = 0; p < c->ns; p++) k += c->S[p] < c->nb;
+    return k;
+}
+
+/* capacity of S (and the dense Ebar) at least need */
+static int grow_s(aug_cum *c, int64_t need)
+{
+    if (need <= c->cap) return 0;
+    int64_t nc = c->cap ? c->cap : 64;
+    while (nc < need) nc *= 2;
+    int32_t *S = aug_realloc(c->S, (size_t)nc * sizeof *S);
+    if (!S) return -1;
+    c->S = S;
+    double *dF = aug_realloc(c->dF, (size_t)nc * sizeof *dF);
+    if (!dF) return -1;
+    c->dF = dF;
+    double *E = aug_calloc((size_t)nc * (size_t)nc, sizeof *E);
+    if (!E) return -1;
+    for (int64_t j = 0; j < c->ns; j++)
+        memcpy(E + j * nc, c->E + j * c->cap, (size_t)c->ns * sizeof *E);
+    free(c->E);
+    c->E = E;
+    c->cap = nc;
+    return 0;
+}
+
+static int grow_pos(aug_cum *c, int64_t need)
+{
+    if (need <= c->pcap) return 0;
+    int64_t nc = c->pcap * 2 > need ? c->pcap * 2 : need;
+    int32_t *p = aug_realloc(c->pos, (size_t)nc * sizeof *p);
+    if (!p) return -1;
+    for (int64_t i = c->pcap; i < nc; i++) p[i] = -1;
+    c->pos = p;
+    c->pcap = nc;
+    return 0;
+}
+
+/* Ebar_cum += scatter(E + [0 0; 0 I_k]); dF += scatter(df) (eq. 3.1 composed) */
+int aug_cum_apply(aug_cum *c, const aug_update *u, aug_err *e)
+{
+    int64_t m = u->m, k = u->k, s = m + k;
+    for (int64_t i = 0; i < m; i++)
+        if (u->H[i] < 0 || u->H[i] >= c->n)
+            return aug_err_set(e, AUG_EDATA, -1, "UPDT", "step %d: H[%lld] = %d is not below n = %lld",
+                               (int)u->step, (long long)i, (int)u->H[i], (long long)c->n);
+    for (int64_t i = 0; i < s * s; i++)
+        if (!isfinite(u->E[i]))
+            return aug_err_set(e, AUG_EDATA, -1, "UPDT", "step %d: E has a non-finite entry",
+                               (int)u->step);
+    for (int64_t i = 0; i < s; i++)
+        if (!isfinite(u->df[i]))
+            return aug_err_set(e, AUG_EDATA, -1, "UPDT", "step %d: df has a non-finite entry",
+                               (int)u->step);
+    if (k > INT32_MAX - c->n)
+        return aug_err_set(e, AUG_EDATA, -1, "UPDT", "step %d: too many DOFs", (int)u->step);
+    int64_t nadd = k;
+    for (int64_t i = 0; i < m; i++) nadd += c->pos[u->H[i]] < 0;
+    if (grow_s(c, c->ns + nadd) || grow_pos(c, c->n + k))
+        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    int32_t *map = aug_malloc((size_t)(s ? s : 1) * sizeof *map);
+    if (!map) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    for (int64_t i = 0; i < s; i++) {
+        int32_t idx = (int32_t)(i < m ? u->H[i] : c->n + (i - m));
+        if (c->pos[idx] < 0) {
+            int64_t p = c->ns++;
+            c->pos[idx] = (int32_t)p;
+            c->S[p] = idx;
+            c->dF[p] = 0;
+            for (int64_t q = 0; q <= p; q++) c->E[q + p * c->cap] = c->E[p + q * c->cap] = 0;
+        }
+        map[i] = c->pos[idx];
+    }
+    for (int64_t j = 0; j < s; j++) {
+        double *Ej = c->E + (int64_t)map[j] * c->cap;
+        for (int64_t i = 0; i < s; i++) Ej[map[i]] += u->E[i + j * s];
+        if (j >= m) Ej[map[j]] += 1.0;
+        c->dF[map[j]] += u->df[j];
+    }
+    c->n += k;
+    free(map);
+    return 0;
+}
+
+int aug_cutmat_init(aug_cutmat *m, const cholmod_sparse *K0, const double *f0,
+                    cholmod_common *cm, aug_err *e)
+{
+    memset(m, 0, sizeof *m);
+    if (K0->nrow != K0->ncol || K0->itype != CHOLMOD_INT || K0->xtype != CHOLMOD_REAL)
+        return aug_err_set(e, AUG_EDATA, -1, "KMAT", "K0 must be square, real, int-indexed");
+    m->n0 = (int64_t)K0->nrow;
+    m->K0 = cholmod_copy((cholmod_sparse *)K0, 0, 1, cm);
+    if (!m->K0) return aug_err_set(e, AUG_ENOMEM, -1, "KMAT", "out of memory (K0 copy)");
+    cholmod_sort(m->K0, cm);
+    m->f0 = aug_malloc((size_t)(m->n0 ? m->n0 : 1) * sizeof *m->f0);
+    if (!m->f0) return aug_err_set(e, AUG_ENOMEM, -1, "FVEC", "out of memory");
+    memcpy(m->f0, f0, (size_t)m->n0 * sizeof *m->f0);
+    return aug_cum_init(&m->cum, m->n0, e);
+}
+
+void aug_cutmat_free(aug_cutmat *m, cholmod_common *cm)
+{
+    if (m->K0) cholmod_free_sparse(&m->K0, cm);
+    free(m->f0);
+    free(m->work);
+    aug_cum_free(&m->cum);
+    memset(m, 0, sizeof *m);
+}
+
+int aug_cutmat_apply(aug_cutmat *m, const aug_update *u, aug_err *e)
+{
+    return aug_cum_apply(&m->cum, u, e);
+}
+
+/* y = Kbar x - P_S Ebar P_S' x */
+void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y)
+{
+    const int *Ap = m->K0->p, *Ai = m->K0->i;
+    const double *Ax = m->K0->x;
+    const aug_cum *c = &m->cum;
+    for (int64_t j = 0; j < m->n0; j++) {
+        double s = 0;
+        for (int k = Ap[j]; k < Ap[j + 1]; k++) s += Ax[k] * x[Ai[k]];
+        y[j] = s;
+    }
+    for (int64_t j = m->n0; j < c->n; j++) y[j] = x[j];
+    for (int64_t q = 0; q < c->ns; q++) {
+        double xq = x[c->S[q]];
+        if (xq == 0) continue;
+        const double *Eq = c->E + q * c->cap;
+        for (int64_t p = 0; p < c->ns; p++) y[c->S[p]] -= Eq[p] * xq;
+    }
+}
+
+void aug_cutmat_rhs(const aug_cutmat *m, double *f)
+{
+    memcpy(f, m->f0, (size_t)m->n0 * sizeof *f);
+    for (int64_t j = m->n0; j < m->cum.n; j++) f[j] = 0;
+    for (int64_t p = 0; p < m->cum.ns; p++) f[m->cum.S[p]] += m->cum.dF[p];
+}
+
+double aug_cutmat_relres(aug_cutmat *m, const double *x)
+{
+    int64_t n = m->cum.n;
+    if (m->wcap < 2 * n) {
+        double *w = aug_realloc(m->work, (size_t)(2 * n) * sizeof *w);
+        if (!w) return NAN;
+        m->work = w;
+        m->wcap = 2 * n;
+    }
+    double *y = m->work, *f = m->work + n;
+    aug_cutmat_mult(m, x, y);
+    aug_cutmat_rhs(m, f);
+    double rr = 0, ff = 0;
+    for (int64_t i = 0; i < n; i++) {
+        double r = f[i] - y[i];
+        rr += r * r;
+        ff += f[i] * f[i];
+    }
+    return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
+}
+
+int64_t aug_cutmat_colmax(const aug_cutmat *m)
+{
+    int64_t mx = 1;
+    const int *Ap = m->K0->p;
+    for (int64_t j = 0; j < m->n0; j++)
+        if (Ap[j + 1] - Ap[j] > mx) mx = Ap[j + 1] - Ap[j];
+    return mx + m->cum.ns;
+}
+
+/* Kbar(i, j) for i, j in S by a scattered column of Kbar held in scratch */
+int64_t aug_cutmat_column(const aug_cutmat *m, int64_t j, int32_t *idx, double *val,
+                          double *scratch)
+{
+    const aug_cum *c = &m->cum;
+    const int *Ap = m->K0->p, *Ai = m->K0->i;
+    const double *Ax = m->K0->x;
+    int64_t pj = j < c->pcap ? c->pos[j] : -1, nz = 0;
+    if (pj < 0) {
+        if (j < m->n0)
+            for (int k = Ap[j]; k < Ap[j + 1]; k++) idx[nz] = Ai[k], val[nz++] = Ax[k];
+        else
+            idx[nz] = (int32_t)j, val[nz++] = 1.0;
+        return nz;
+    }
+    /* scratch (size n, zero on entry and exit): Kbar(:, j) - Ebar(:, j) */
+    if (j < m->n0)
+        for (int k = Ap[j]; k < Ap[j + 1]; k++) scratch[Ai[k]] = Ax[k];
+    else
+        scratch[j] = 1.0;
+    const double *Ej = c->E + pj * c->cap;
+    for (int64_t p = 0; p < c->ns; p++) scratch[c->S[p]] -= Ej[p];
+    /* gather: unchanged rows of K0's column, then the S rows; sort */
+    if (j < m->n0)
+        for (int k = Ap[j]; k < Ap[j + 1]; k++) {
+            int i = Ai[k];
+            if (c->pos[i] < 0) idx[nz] = i, val[nz++] = scratch[i], scratch[i] = 0;
+        }
+    for (int64_t p = 0; p < c->ns; p++) {
+        int32_t i = c->S[p];
+        if (scratch[i] != 0) idx[nz] = i, val[nz++] = scratch[i];
+        scratch[i] = 0;
+    }
+    if (j < m->n0)
+        for (int k = Ap[j]; k < Ap[j + 1]; k++) scratch[Ai[k]] = 0;
+    /* insertion sort by row (columns are short) */
+    for (int64_t a = 1; a < nz; a++) {
+        int32_t ti = idx[a];
+        double tv = val[a];
+        int64_t b = a - 1;
+        while (b >= 0 && idx[b] > ti) idx[b + 1] = idx[b], val[b + 1] = val[b], b--;
+        idx[b + 1] = ti, val[b + 1] = tv;
+    }
+    return nz;
+}
+
+cholmod_sparse *aug_cutmat_sparse(const aug_cutmat *m, int64_t pad, cholmod_common *cm)
+{
+    const aug_cum *c = &m->cum;
+    int64_t n = c->n, N = n + pad;
+    int64_t cmax = aug_cutmat_colmax(m);
+    int64_t nzmax = (int64_t)((int *)m->K0->p)[m->n0] / 2 + m->n0 + c->ns * c->ns / 2 + c->ns + N;
+    cholmod_sparse *A = cholmod_allocate_sparse((size_t)N, (size_t)N, (size_t)nzmax, 1, 1, 1,
+                                                CHOLMOD_REAL, cm);
+    int32_t *idx = aug_malloc((size_t)cmax * sizeof *idx);
+    double *val = aug_malloc((size_t)cmax * sizeof *val);
+    double *scr = aug_calloc((size_t)(n ? n : 1), sizeof *scr);
+    if (!A || !idx || !val || !scr) goto fail;
+    int *Ap = A->p, *Ai = A->i;
+    double *Ax = A->x;
+    int64_t nz = 0;
+    for (int64_t j = 0; j < N; j++) {
+        Ap[j] = (int)nz;
+        int64_t k = j < n ? aug_cutmat_column(m, j, idx, val, scr) : 0;
+        if (j >= n) idx[0] = (int32_t)j, val[0] = 1.0, k = 1;
+        for (int64_t t = 0; t < k && idx[t] <= j; t++) {
+            if (nz >= (int64_t)A->nzmax) {
+                if (!cholmod_reallocate_sparse(A->nzmax * 2, A, cm)) goto fail;
+                Ai = A->i, Ax = A->x;
+            }
+            Ai[nz] = idx[t], Ax[nz++] = val[t];
+        }
+    }
+    Ap[N] = (int)nz;
+    free(idx), free(val), free(scr);
+    return A;
+fail:
+    free(idx), free(val), free(scr);
+    if (A) cholmod_free_sparse(&A, cm);
+    return NULL;
+}

@@ -1,0 +1,580 @@
+/* Pieces without Dirichlet support: rigid face-connected pieces, coupled through
+   shared nodes and held by constraints; a non-zero rigid motion means K is singular. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <gsl/gsl_eigen.h>
+#include "aug_cut.h"
+
+#define RANK_TOL 1e-10   /* eigenvalue of the normalised Gram matrix counted as zero */
+#define MAX_COUPLED 128  /* pieces analysed jointly; beyond, each unsupported piece is bad */
+
+void aug_pieces_free(aug_pieces *p)
+{
+    free(p->piece);
+    free(p->bad);
+    free(p->first);
+    free(p->size);
+    free(p->queue);
+    memset(p, 0, sizeof *p);
+}
+
+static int64_t find(const int32_t *a, int64_t n, int32_t v)
+{
+    int64_t lo = 0, hi = n - 1;
+    while (lo <= hi) {
+        int64_t mid = lo + (hi - lo) / 2;
+        if (a[mid] == v) return mid;
+        if (a[mid] < v) lo = mid + 1;
+        else hi = mid - 1;
+    }
+    return -1;
+}
+
+static int is_fixed(const aug_mesh *m, const aug_bdelta *x, int32_t dof)
+{
+    return aug_mesh_fixed(m, dof, NULL) || (x && find(x->fix_dof, x->nfix, dof) >= 0);
+}
+
+/* rigid-motion row of component c at point r (relative, scaled):
+   u = a + w x r (3-D, R = 6) or u = a + w e_z x r (2-D, R = 3) */
+static int rbm_row(int dim, const double *r, int c, double *row)
+{
+    if (dim == 2) {
+        row[0] = c == 0;
+        row[1] = c == 1;
+        row[2] = c == 0 ? -r[1] : r[0];
+        return 3;
+    }
+    memset(row, 0, 6 * sizeof *row);
+    row[c] = 1;
+    if (c == 0) { row[4] = r[2]; row[5] = -r[1]; }
+    if (c == 1) { row[3] = -r[2]; row[5] = r[0]; }
+    if (c == 2) { row[3] = r[1]; row[4] = -r[0]; }
+    return 6;
+}
+
+typedef struct geo {
+    double c[3], L;
+} geo;
+
+static void relpos(const aug_mesh *m, const geo *g, int32_t node, double *r)
+{
+    for (int k = 0; k < m->dim; k++) r[k] = (m->x[(int64_t)node * m->dim + k] - g->c[k]) / g->L;
+}
+
+/* G += s * a b' on an R x R block at (bi, bj) of an n x n matrix */
+static void outer(double *G, int64_t n, int64_t bi, int64_t bj, const double *a, const double *b,
+                  int R, double s)
+{
+    for (int i = 0; i < R; i++)
+        for (int j = 0; j < R; j++) G[(bi + i) + (bj + j) * n] += s * a[i] * b[j];
+}
+
+/* eigenvalues (and vectors if V) of the symmetric n x n G; 0 or -1 */
+static int eig(const double *G, int64_t n, double *lam, double *V)
+{
+    gsl_matrix *A = gsl_matrix_alloc((size_t)n, (size_t)n);
+    gsl_vector *w = gsl_vector_alloc((size_t)n);
+    gsl_matrix *Z = V ? gsl_matrix_alloc((size_t)n, (size_t)n) : NULL;
+    int rc = -1;
+    if (!A || !w || (V && !Z)) goto out;
+    for (int64_t i = 0; i < n; i++)
+        for (int64_t j = 0; j < n; j++) gsl_matrix_set(A, (size_t)i, (size_t)j, G[i + j * n]);
+    if (V) {
+        gsl_eigen_symmv_workspace *ws = gsl_eigen_symmv_alloc((size_t)n);
+        if (!ws) goto out;
+        gsl_eigen_symmv(A, w, Z, ws);
+        gsl_eigen_symmv_free(ws);
+        for (int64_t i = 0; i < n; i++)
+            for (int64_t j = 0; j < n; j++) V[i + j * n] = gsl_matrix_get(Z, (size_t)i, (size_t)j);
+    } else {
+        gsl_eigen_symm_workspace *ws = gsl_eigen_symm_alloc((size_t)n);
+        if (!ws) goto out;
+        gsl_eigen_symm(A, w, ws);
+        gsl_eigen_symm_free(ws);
+    }
+    for (int64_t i = 0; i < n; i++) lam[i] = gsl_vector_get(w, (size_t)i);
+    rc = 0;
+out:
+    gsl_matrix_free(A);
+    gsl_vector_free(w);
+    if (Z) gsl_matrix_free(Z);
+    return rc;
+}
+
+/* full rank R? */
+static int full_rank(const double *G, int R)
+{
+    double lam[6], mx = 0, mn = INFINITY;
+    if (eig(G, R, lam, NULL)) return 0;
+    for (int i = 0; i < R; i++) {
+        if (lam[i] > mx) mx = lam[i];
+        if (lam[i] < mn) mn = lam[i];
+    }
+    return mx > 0 && mn > RANK_TOL * mx;
+}
+
+/* one piece holding every element: do its constraints (m's and extra's) stop
+   all rigid motions? 1 unsupported, 0 supported */
+static int single_unsupported(const aug_mesh *m, const aug_adj *adj, const aug_bdelta *extra)
+{
+    int dim = m->dim, R = dim == 3 ? 6 : 3;
+    /* centre and scale from the constrained nodes: the rank does not depend on
+       them, the conditioning of the rows does */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int src = 0; src < 2; src++) {
+        int64_t cnt = src == 0 ? m->nfix : (extra ? extra->nfix : 0);
+        for (int64_t k = 0; k < cnt; k++) {
+            int32_t i = (src == 0 ? m->fix_dof[k] : extra->fix_dof[k]) / dim;
+            if (i >= m->nn || adj->cnt[i] == 0) continue;
+            for (int c = 0; c < dim; c++) {
+                double x = m->x[(int64_t)i * dim + c];
+                if (x < lo[c]) lo[c] = x;
+                if (x > hi[c]) hi[c] = x;
+            }
+        }
+    }
+    if (!(lo[0] <= hi[0])) return 1; /* no constraint at all */
+    geo g;
+    double L2 = 0, G[36], r[3], row[6];
+    for (int k = 0; k < dim; k++) {
+        g.c[k] = 0.5 * (lo[k] + hi[k]);
+        L2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    g.L = L2 > 0 ? sqrt(L2) : 1.0;
+    memset(G, 0, sizeof G);
+    for (int src = 0; src < 2; src++) {
+        int64_t cnt = src == 0 ? m->nfix : (extra ? extra->nfix : 0);
+        for (int64_t k = 0; k < cnt; k++) {
+            int32_t dof = src == 0 ? m->fix_dof[k] : extra->fix_dof[k];
+            if (src == 1 && aug_mesh_fixed(m, dof, NULL)) continue;
+            int32_t i = dof / dim;
+            if (i >= m->nn || adj->cnt[i] == 0) continue;
+            relpos(m, &g, i, r);
+            rbm_row(dim, r, dof % dim, row);
+            outer(G, R, 0, 0, row, row, R, 1.0);
+        }
+    }
+    return !full_rank(G, R);
+}
+
+int aug_detach_find_one(const aug_mesh *m, const aug_adj *adj, const aug_bdelta *extra,
+                        aug_pieces *out, aug_err *e)
+{
+    aug_err_clear(e);
+    int64_t ne = m->ne;
+    free(out->bad);
+    free(out->first);
+    free(out->size);
+    out->np = 1;
+    out->nbad = 0;
+    out->bad = aug_malloc(sizeof *out->bad);
+    out->first = aug_malloc(sizeof *out->first);
+    out->size = aug_malloc(sizeof *out->size);
+    if (!out->bad || !out->first || !out->size) goto nomem;
+    out->first[0] = 0;
+    out->size[0] = ne;
+    if (!single_unsupported(m, adj, extra)) return 0;
+    out->bad[out->nbad++] = 0;
+    if (ne > out->cap) {
+        int32_t *a = aug_realloc(out->piece, (size_t)ne * sizeof *a);
+        if (!a) goto nomem;
+        out->piece = a;
+        a = aug_realloc(out->queue, (size_t)ne * sizeof *a);
+        if (!a) goto nomem;
+        out->queue = a;
+        out->cap = ne;
+    }
+    memset(out->piece, 0, (size_t)ne * sizeof *out->piece);
+    return 0;
+nomem:
+    aug_pieces_free(out);
+    return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory finding detached pieces");
+}
+
+static int cmp_first(const void *a, const void *b, void *ctx)
+{
+    const int32_t *first = ctx;
+    int32_t x = first[*(const int32_t *)a], y = first[*(const int32_t *)b];
+    return (x > y) - (x < y);
+}
+
+int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn,
+                    const aug_bdelta *extra, aug_pieces *out, aug_err *e)
+{
+    aug_err_clear(e);
+    int dim = m->dim, nv = m->nv, R = dim == 3 ? 6 : 3;
+    int64_t ne = m->ne, nn = m->nn;
+    int32_t *queue, *np_of = NULL, *plist = NULL, *uidx = NULL;
+    int64_t *pstart = NULL;
+    geo *g = NULL;
+    double *G = NULL, *big = NULL, *lam = NULL, *V = NULL;
+    unsigned char *sup = NULL;
+    free(out->bad);
+    free(out->first);
+    free(out->size);
+    out->bad = out->first = NULL;
+    out->size = NULL;
+    out->np = out->nbad = 0;
+    if (ne > out->cap) {
+        int64_t nc = ne + ne / 4 + 64;
+        int32_t *a = aug_realloc(out->piece, (size_t)nc * sizeof *a);
+        if (!a) goto nomem;
+        out->piece = a;
+        a = aug_realloc(out->queue, (size_t)nc * sizeof *a);
+        if (!a) goto nomem;
+        out->queue = a;
+        out->cap = nc;
+    }
+    queue = out->queue;
+    /* face-connected pieces: union-find over face neighbours in one sweep
+       (queue[] holds the forest), then pieces numbered by their least element */
+    int32_t *up = queue;
+    for (int64_t i = 0; i < ne; i++) up[i] = (int32_t)i;
+    for (int64_t el = 0; el < ne; el++) {
+        const int32_t *nb = fn->nbr + el * fn->nf;
+        for (int f = 0; f < fn->nf; f++) {
+            int32_t o = nb[f];
+            if (o <= el) continue;
+            int32_t a = (int32_t)el, b = o;
+            while (up[a] != a) a = up[a] = up[up[a]];
+            while (up[b] != b) b = up[b] = up[up[b]];
+            if (a != b) up[a < b ? b : a] = a < b ? a : b;
+        }
+    }
+    int64_t np = 0;
+    for (int64_t el = 0; el < ne; el++) {
+        int32_t a = (int32_t)el;
+        while (up[a] != a) a = up[a];
+        out->piece[el] = a == el ? (int32_t)np++ : out->piece[a];
+    }
+    out->np = np;
+    out->first = aug_malloc((size_t)np * sizeof *out->first + 1);
+    out->size = aug_calloc((size_t)np + 1, sizeof *out->size);
+    g = aug_calloc((size_t)np + 1, sizeof *g);
+    G = aug_calloc((size_t)(np * R * R) + 1, sizeof *G);
+    sup = aug_calloc((size_t)np + 1, 1);
+    if (!out->first || !out->size || !g || !G || !sup) goto nomem;
+    for (int64_t p = 0; p < np; p++) out->first[p] = -1;
+    /* per piece: least element, size, bounding box -> centre and scale */
+    double *lo = aug_malloc((size_t)(np * 6) * sizeof *lo + 1);
+    if (!lo) goto nomem;
+    for (int64_t p = 0; p < np * 3; p++) {
+        lo[p] = INFINITY;
+        lo[np * 3 + p] = -INFINITY;
+    }
+    if (np == 1) { /* the usual case: one piece, its box is the nodes' box */
+        out->first[0] = 0;
+        out->size[0] = ne;
+        for (int64_t i = 0; i < nn; i++)
+            for (int k = 0; k < dim; k++) {
+                double x = m->x[i * dim + k];
+                if (adj->cnt[i] == 0) continue;
+                if (x < lo[k]) lo[k] = x;
+                if (x > lo[3 + k]) lo[3 + k] = x;
+            }
+    }
+    for (int64_t el = 0; np > 1 && el < ne; el++) {
+        int32_t p = out->piece[el];
+        if (out->first[p] < 0) out->first[p] = (int32_t)el;
+        out->size[p]++;
+        for (int a = 0; a < nv; a++)
+            for (int k = 0; k < dim; k++) {
+                double x = m->x[(int64_t)m->conn[el * nv + a] * dim + k];
+                if (x < lo[p * 3 + k]) lo[p * 3 + k] = x;
+                if (x > lo[np * 3 + p * 3 + k]) lo[np * 3 + p * 3 + k] = x;
+            }
+    }
+    for (int64_t p = 0; p < np; p++) {
+        double L2 = 0;
+        for (int k = 0; k < dim; k++) {
+            double a = lo[p * 3 + k], b = lo[np * 3 + p * 3 + k];
+            g[p].c[k] = 0.5 * (a + b);
+            L2 += (b - a) * (b - a);
+        }
+        g[p].L = L2 > 0 ? sqrt(L2) : 1.0;
+    }
+    free(lo);
+    if (np == 1) { /* one piece: its own constraints decide */
+        out->bad = aug_malloc(sizeof *out->bad);
+        if (!out->bad) goto nomem;
+        if (single_unsupported(m, adj, extra)) out->bad[out->nbad++] = 0;
+        goto done;
+    }
+    /* pieces of each node (unique, increasing), as lists */
+    pstart = aug_malloc((size_t)(nn + 1) * sizeof *pstart);
+    if (!pstart) goto nomem;
+    int64_t tot = 0;
+    for (int64_t i = 0; i < nn; i++) tot += np > 1 ? adj->cnt[i] : adj->cnt[i] > 0;
+    plist = aug_malloc((size_t)tot * sizeof *plist + 1);
+    if (!plist) goto nomem;
+    tot = 0;
+    for (int64_t i = 0; i < nn; i++) {
+        pstart[i] = tot;
+        if (np == 1) {
+            if (adj->cnt[i] > 0) plist[tot++] = 0;
+            continue;
+        }
+        for (int32_t k = 0; k < adj->cnt[i]; k++) {
+            int32_t p = out->piece[adj->list[i][k]], dup = 0;
+            for (int64_t q = pstart[i]; q < tot && !dup; q++) dup = plist[q] == p;
+            if (!dup) plist[tot++] = p;
+        }
+        for (int64_t a = pstart[i] + 1; a < tot; a++)
+            for (int64_t b = a; b > pstart[i] && plist[b - 1] > plist[b]; b--) {
+                int32_t t = plist[b];
+                plist[b] = plist[b - 1];
+                plist[b - 1] = t;
+            }
+    }
+    pstart[nn] = tot;
+    /* own constraints: the mesh's and the extra ones not already in the mesh */
+    double r[3], row[6], row2[6];
+    for (int src = 0; src < 2; src++) {
+        int64_t cnt = src == 0 ? m->nfix : (extra ? extra->nfix : 0);
+        for (int64_t k = 0; k < cnt; k++) {
+            int32_t dof = src == 0 ? m->fix_dof[k] : extra->fix_dof[k];
+            if (src == 1 && aug_mesh_fixed(m, dof, NULL)) continue;
+            int32_t i = dof / dim;
+            int c = dof % dim;
+            if (i >= nn) continue;
+            for (int64_t q = pstart[i]; q < pstart[i + 1]; q++) {
+                int32_t p = plist[q];
+                relpos(m, &g[p], i, r);
+                rbm_row(dim, r, c, row);
+                outer(G + (int64_t)p * R * R, R, 0, 0, row, row, R, 1.0);
+            }
+        }
+    }
+    for (int64_t p = 0; p < np; p++) sup[p] = full_rank(G + p * R * R, R);
+    /* propagation: a piece pinned at nodes of supported pieces */
+    for (int changed = 1; changed;) {
+        changed = 0;
+        for (int64_t p = 0; p < np; p++) {
+            if (sup[p]) continue;
+            double H[36];
+            memcpy(H, G + p * R * R, (size_t)(R * R) * sizeof *H);
+            int any = 0;
+            for (int64_t i = 0; i < nn; i++) {
+                if (pstart[i + 1] - pstart[i] < 2) continue;
+                int mine = 0, other = 0;
+                for (int64_t q = pstart[i]; q < pstart[i + 1]; q++) {
+                    if (plist[q] == p) mine = 1;
+                    else if (sup[plist[q]]) other = 1;
+                }
+                if (!mine || !other) continue;
+                any = 1;
+                relpos(m, &g[p], (int32_t)i, r);
+                for (int c = 0; c < dim; c++) {
+                    rbm_row(dim, r, c, row);
+                    outer(H, R, 0, 0, row, row, R, 1.0);
+                }
+            }
+            if (any && full_rank(H, R)) {
+                sup[p] = 1;
+                changed = 1;
+            }
+        }
+    }
+    /* the rest, coupled: rigid motions of the unsupported pieces */
+    int64_t nu = 0;
+    uidx = aug_malloc((size_t)np * sizeof *uidx + 1);
+    out->bad = aug_malloc((size_t)np * sizeof *out->bad + 1);
+    if (!uidx || !out->bad) goto nomem;
+    for (int64_t p = 0; p < np; p++) uidx[p] = sup[p] ? -1 : (int32_t)nu++;
+    if (nu > 0 && nu <= MAX_COUPLED) {
+        int64_t n = nu * R;
+        big = aug_calloc((size_t)(n * n), sizeof *big);
+        lam = aug_malloc((size_t)n * sizeof *lam);
+        V = aug_malloc((size_t)(n * n) * sizeof *V);
+        if (!big || !lam || !V) goto nomem;
+        for (int64_t p = 0; p < np; p++)
+            if (uidx[p] >= 0)
+                for (int i = 0; i < R; i++)
+                    for (int j = 0; j < R; j++)
+                        big[(uidx[p] * R + i) + (uidx[p] * R + j) * n] = G[p * R * R + i + j * R];
+        for (int64_t i = 0; i < nn; i++) {
+            int64_t a = pstart[i], b = pstart[i + 1];
+            if (b - a < 2) continue;
+            int32_t p0 = -1, anysup = 0;
+            for (int64_t q = a; q < b; q++) {
+                if (sup[plist[q]]) anysup = 1;
+                else if (p0 < 0) p0 = plist[q];
+            }
+            if (p0 < 0) continue;
+            for (int64_t q = a; q < b; q++) {
+                int32_t p = plist[q];
+                if (sup[p]) continue;
+                relpos(m, &g[p], (int32_t)i, r);
+                if (anysup)
+                    for (int c = 0; c < dim; c++) {
+                        rbm_row(dim, r, c, row);
+                        outer(big, n, uidx[p] * R, uidx[p] * R, row, row, R, 1.0);
+                    }
+                if (p == p0) continue;
+                double r0[3];
+                relpos(m, &g[p0], (int32_t)i, r0);
+                for (int c = 0; c < dim; c++) {
+                    rbm_row(dim, r0, c, row);
+                    rbm_row(dim, r, c, row2);
+                    int64_t i0 = uidx[p0] * R, i1 = uidx[p] * R;
+                    outer(big, n, i0, i0, row, row, R, 1.0);
+                    outer(big, n, i1, i1, row2, row2, R, 1.0);
+                    outer(big, n, i0, i1, row, row2, R, -1.0);
+                    outer(big, n, i1, i0, row2, row, R, -1.0);
+                }
+            }
+        }
+        if (eig(big, n, lam, V)) goto nomem;
+        double mx = 0;
+        for (int64_t i = 0; i < n; i++)
+            if (lam[i] > mx) mx = lam[i];
+        unsigned char *bad = aug_calloc((size_t)np + 1, 1);
+        if (!bad) goto nomem;
+        for (int64_t j = 0; j < n; j++) {
+            if (mx > 0 && lam[j] > RANK_TOL * mx) continue;
+            for (int64_t p = 0; p < np; p++) {
+                if (uidx[p] < 0) continue;
+                double s2 = 0;
+                for (int i = 0; i < R; i++) s2 += V[uidx[p] * R + i + j * n] * V[uidx[p] * R + i + j * n];
+                if (s2 > 1e-12) bad[p] = 1;
+            }
+        }
+        for (int64_t p = 0; p < np; p++)
+            if (bad[p]) out->bad[out->nbad++] = (int32_t)p;
+        free(bad);
+    } else if (nu > 0) {
+        for (int64_t p = 0; p < np; p++)
+            if (!sup[p]) out->bad[out->nbad++] = (int32_t)p;
+    }
+    qsort_r(out->bad, (size_t)out->nbad, sizeof *out->bad, cmp_first, out->first);
+done:
+    free(np_of);
+    free(plist);
+    free(pstart);
+    free(uidx);
+    free(g);
+    free(G);
+    free(big);
+    free(lam);
+    free(V);
+    free(sup);
+    return 0;
+nomem:
+    free(np_of);
+    free(plist);
+    free(pstart);
+    free(uidx);
+    free(g);
+    free(G);
+    free(big);
+    free(lam);
+    free(V);
+    free(sup);
+    aug_pieces_free(out);
+    return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory finding detached pieces");
+}
+
+/* nodes of piece id, increasing; count in *n */
+static int32_t *piece_nodes(const aug_mesh *m, const aug_pieces *p, int32_t id, int64_t *n)
+{
+    unsigned char *mk = aug_calloc((size_t)m->nn + 1, 1);
+    if (!mk) return NULL;
+    for (int64_t el = 0; el < m->ne; el++)
+        if (p->piece[el] == id)
+            for (int a = 0; a < m->nv; a++) mk[m->conn[el * m->nv + a]] = 1;
+    int64_t k = 0;
+    for (int64_t i = 0; i < m->nn; i++) k += mk[i];
+    int32_t *v = aug_malloc((size_t)k * sizeof *v + 1);
+    if (v) {
+        k = 0;
+        for (int64_t i = 0; i < m->nn; i++)
+            if (mk[i]) v[k++] = (int32_t)i;
+        *n = k;
+    }
+    free(mk);
+    return v;
+}
+
+static double dist2(const aug_mesh *m, int32_t a, int32_t b)
+{
+    double s = 0;
+    for (int k = 0; k < m->dim; k++) {
+        double d = m->x[(int64_t)a * m->dim + k] - m->x[(int64_t)b * m->dim + k];
+        s += d * d;
+    }
+    return s;
+}
+
+static int fix0(const aug_mesh *m, const aug_bdelta *extra, aug_bdelta *b, int32_t dof)
+{
+    if (is_fixed(m, extra, dof)) return 0;
+    return aug_bdelta_fix(b, dof, 0.0);
+}
+
+static int argmax3(const double *v, int dim, int skip)
+{
+    int best = -1;
+    for (int k = 0; k < dim; k++)
+        if (k != skip && (best < 0 || fabs(v[k]) > fabs(v[best]))) best = k;
+    return best;
+}
+
+/* 3-2-1 supports: node a all components; node b (farthest from a) the
+   components across ab; node c (farthest from line ab) the component along the
+   normal of abc. In 2-D: a both, b the component across ab. */
+int aug_detach_pin(const aug_mesh *m, const aug_pieces *p, int32_t id, const aug_bdelta *extra,
+                   aug_bdelta *b, aug_err *e)
+{
+    aug_err_clear(e);
+    int64_t n = 0;
+    int dim = m->dim;
+    int32_t *v = piece_nodes(m, p, id, &n);
+    if (!v) return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
+    int32_t a = v[0], bb = a, c = a;
+    double best = -1;
+    for (int64_t i = 0; i < n; i++) {
+        double d = dist2(m, a, v[i]);
+        if (d > best) { best = d; bb = v[i]; }
+    }
+    const double *xa = m->x + (int64_t)a * dim, *xb = m->x + (int64_t)bb * dim;
+    double ab[3] = {0, 0, 0}, nrm[3] = {0, 0, 0};
+    for (int k = 0; k < dim; k++) ab[k] = xb[k] - xa[k];
+    best = -1;
+    for (int64_t i = 0; dim == 3 && i < n; i++) {
+        const double *xc = m->x + (int64_t)v[i] * dim;
+        double ac[3] = {xc[0] - xa[0], xc[1] - xa[1], xc[2] - xa[2]};
+        double q[3] = {ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2],
+                       ab[0] * ac[1] - ab[1] * ac[0]};
+        double s = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+        if (s > best) {
+            best = s;
+            c = v[i];
+            memcpy(nrm, q, sizeof nrm);
+        }
+    }
+    free(v);
+    int rc = 0, along = argmax3(ab, dim, -1);
+    for (int k = 0; k < dim; k++) rc |= fix0(m, extra, b, a * dim + k);
+    for (int k = 0; k < dim; k++)
+        if (k != along) rc |= fix0(m, extra, b, bb * dim + k);
+    if (dim == 3) rc |= fix0(m, extra, b, c * dim + argmax3(nrm, 3, -1));
+    if (rc) return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
+    return 0;
+}
+
+int aug_detach_drop(const aug_mesh *m, const aug_pieces *p, int32_t id, const aug_bdelta *extra,
+                    aug_bdelta *b, aug_err *e)
+{
+    aug_err_clear(e);
+    int64_t n = 0;
+    int32_t *v = piece_nodes(m, p, id, &n);
+    if (!v) return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
+    int rc = 0;
+    for (int64_t i = 0; i < n; i++)
+        for (int k = 0; k < m->dim; k++) rc |= fix0(m, extra, b, v[i] * m->dim + k);
+    free(v);
+    if (rc) return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
+    return 0;
+}

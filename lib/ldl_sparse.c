@@ -1,0 +1,266 @@
+/* Sparse-RHS triangular solves on a simplicial LDL' factor over elimination-tree
+   closures (paper 000 sec. 3.3 and appendix theorems 1-3). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "aug_solve.h"
+
+static int cmp_i32(const void *a, const void *b)
+{
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* parent[j] = min row index of L(:,j) below the diagonal */
+static void etree_of(aug_base *b)
+{
+    for (int64_t j = 0; j < b->n; j++) {
+        int32_t p = -1;
+        for (int k = b->Lp[j] + 1; k < b->Lp[j] + b->Lnz[j]; k++)
+            if (p < 0 || b->Li[k] < p) p = b->Li[k];
+        b->parent[j] = p;
+    }
+}
+
+/* struct L(:,j) \ {parent} within struct L(:,parent) for every j: then the
+   closure of any column set is the union of its etree paths (thm 3). */
+static int etree_closed(const aug_base *b, unsigned char *mark)
+{
+    int ok = 1;
+    for (int64_t j = 0; j < b->n && ok; j++) {
+        int32_t p = b->parent[j];
+        if (p < 0) {
+            if (b->Lnz[j] > 1) ok = 0;
+            continue;
+        }
+        if (p <= j) { ok = 0; break; }
+        for (int k = b->Lp[p] + 1; k < b->Lp[p] + b->Lnz[p]; k++) mark[b->Li[k]] = 1;
+        for (int k = b->Lp[j] + 1; k < b->Lp[j] + b->Lnz[j]; k++)
+            if (b->Li[k] != p && !mark[b->Li[k]]) ok = 0;
+        for (int k = b->Lp[p] + 1; k < b->Lp[p] + b->Lnz[p]; k++) mark[b->Li[k]] = 0;
+    }
+    return ok;
+}
+
+static int to_simplicial_ldl(cholmod_factor *L, cholmod_common *cm)
+{
+    if (L->is_super || L->is_ll || !L->is_monotonic)
+        if (!cholmod_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, L, cm)) return -1;
+    return L->itype == CHOLMOD_INT && L->xtype == CHOLMOD_REAL ? 0 : -1;
+}
+
+static void attach(aug_base *b)
+{
+    cholmod_factor *L = b->L;
+    b->n = (int64_t)L->n;
+    b->Lp = L->p, b->Li = L->i, b->Lnz = L->nz, b->Lx = L->x;
+}
+
+/* a refactorization of Kb with L's permutation, simplicial LDL' */
+static cholmod_factor *refactor_given(const cholmod_sparse *Kb, const int *perm,
+                                      cholmod_common *cm)
+{
+    int nm = cm->nmethods, sn = cm->supernodal, ord = cm->method[0].ordering, post = cm->postorder;
+    cm->nmethods = 1;
+    cm->method[0].ordering = CHOLMOD_GIVEN;
+    cm->supernodal = CHOLMOD_SIMPLICIAL;
+    cm->postorder = 0;
+    cholmod_factor *L = cholmod_analyze_p((cholmod_sparse *)Kb, (int *)perm, NULL, 0, cm);
+    if (L && !cholmod_factorize((cholmod_sparse *)Kb, L, cm)) cholmod_free_factor(&L, cm);
+    cm->nmethods = nm, cm->supernodal = sn, cm->method[0].ordering = ord, cm->postorder = post;
+    return L;
+}
+
+/* Ls: supernodal L L' of Kb with the permutation perm kept as given (no
+   postordering), so Ls = L D^1/2 column for column; NULL if CHOLMOD changed
+   the permutation or failed. */
+static cholmod_factor *supernodal_given(const cholmod_sparse *Kb, const int32_t *perm, int64_t n,
+                                        cholmod_common *cm)
+{
+    int nm = cm->nmethods, sn = cm->supernodal, ord = cm->method[0].ordering, post = cm->postorder;
+    cm->nmethods = 1;
+    cm->method[0].ordering = CHOLMOD_GIVEN;
+    cm->supernodal = CHOLMOD_SUPERNODAL;
+    cm->postorder = 0;
+    cholmod_factor *L = cholmod_analyze_p((cholmod_sparse *)Kb, (int *)perm, NULL, 0, cm);
+    if (L && !cholmod_factorize((cholmod_sparse *)Kb, L, cm)) cholmod_free_factor(&L, cm);
+    cm->nmethods = nm, cm->supernodal = sn, cm->method[0].ordering = ord, cm->postorder = post;
+    if (L && (L->minor < L->n || !L->is_super)) cholmod_free_factor(&L, cm);
+    for (int64_t k = 0; L && k < n; k++)
+        if (((int *)L->Perm)[k] != perm[k]) cholmod_free_factor(&L, cm);
+    return L;
+}
+
+aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double *fb,
+                       int32_t step, cholmod_common *cm, aug_err *e)
+{
+    aug_base *b = aug_calloc(1, sizeof *b);
+    unsigned char *mark = NULL;
+    double *work = NULL;
+    if (!b) goto nomem;
+    b->L = L;
+    b->step = step;
+    b->refs = 1;
+    if (to_simplicial_ldl(L, cm)) {
+        aug_err_set(e, AUG_EDATA, -1, "FACT", "factor cannot be converted to simplicial LDL'");
+        goto fail;
+    }
+    attach(b);
+    if (L->minor < L->n) {
+        aug_err_set(e, AUG_ESINGULAR, -1, "FACT", "factor is not positive definite at column %d",
+                    (int)L->minor);
+        goto fail;
+    }
+    b->parent = aug_malloc((size_t)(b->n + 1) * sizeof *b->parent);
+    b->perm = aug_malloc((size_t)(b->n + 1) * sizeof *b->perm);
+    b->pinv = aug_malloc((size_t)(b->n + 1) * sizeof *b->pinv);
+    b->a = aug_malloc((size_t)(b->n + 1) * sizeof *b->a);
+    mark = aug_calloc((size_t)(b->n + 1), 1);
+    work = aug_malloc((size_t)(b->n + 1) * sizeof *work);
+    if (!b->parent || !b->perm || !b->pinv || !b->a || !mark || !work) goto nomem;
+    const int *P = L->Perm;
+    for (int64_t k = 0; k < b->n; k++) b->perm[k] = P ? P[k] : (int32_t)k;
+    for (int64_t k = 0; k < b->n; k++) b->pinv[b->perm[k]] = (int32_t)k;
+    etree_of(b);
+    if (!etree_closed(b, mark)) {
+        if (!Kb) {
+            aug_err_set(e, AUG_EDATA, -1, "FACT", "factor pattern is not closed under its elimination tree");
+            goto fail;
+        }
+        cholmod_factor *L2 = refactor_given(Kb, b->perm, cm);
+        if (!L2 || L2->minor < L2->n) {
+            if (L2) cholmod_free_factor(&L2, cm);
+            aug_err_set(e, AUG_ESINGULAR, -1, "FACT", "re-factorization of the base failed");
+            goto fail;
+        }
+        cholmod_free_factor(&b->L, cm);
+        b->L = L2;
+        attach(b);
+        etree_of(b);
+    }
+    for (int64_t j = 0; j < b->n; j++)
+        if (!(aug_base_d(b, j) > 0)) {
+            aug_err_set(e, AUG_ESINGULAR, -1, "FACT", "D(%lld) = %g is not positive",
+                        (long long)j, aug_base_d(b, j));
+            goto fail;
+        }
+    aug_ldl_solve_full(b, fb, b->a, work);
+    if (Kb && b->n >= AUG_SUPERNODAL_MIN) {
+        b->Ls = supernodal_given(Kb, b->perm, b->n, cm);
+        b->sqrtd = b->Ls ? aug_malloc((size_t)b->n * sizeof *b->sqrtd) : NULL;
+        if (b->Ls && !b->sqrtd) goto nomem;
+        for (int64_t j = 0; b->Ls && j < b->n; j++) b->sqrtd[j] = sqrt(aug_base_d(b, j));
+    }
+    free(mark);
+    free(work);
+    return b;
+nomem:
+    aug_err_set(e, AUG_ENOMEM, -1, "FACT", "out of memory");
+fail:
+    free(mark);
+    free(work);
+    if (b) {
+        b->refs = 1;
+        aug_base_release(b, cm);
+    } else if (L) {
+        cholmod_free_factor(&L, cm);
+    }
+    return NULL;
+}
+
+void aug_base_release(aug_base *b, cholmod_common *cm)
+{
+    if (!b || --b->refs > 0) return;
+    if (b->L) cholmod_free_factor(&b->L, cm);
+    if (b->Ls) cholmod_free_factor(&b->Ls, cm);
+    free(b->sqrtd);
+    free(b->parent);
+    free(b->perm);
+    free(b->pinv);
+    free(b->a);
+    free(b);
+}
+
+int64_t aug_ldl_path(const aug_base *b, int32_t p, int32_t *path)
+{
+    int64_t k = 0;
+    for (int32_t v = p; v >= 0; v = b->parent[v]) path[k++] = v;
+    return k;
+}
+
+int64_t aug_ldl_closure(const aug_base *b, const int32_t *start, int64_t ns, int32_t *out,
+                        unsigned char *mark)
+{
+    int64_t k = 0;
+    for (int64_t s = 0; s < ns; s++)
+        for (int32_t v = start[s]; v >= 0 && !mark[v]; v = b->parent[v]) {
+            mark[v] = 1;
+            out[k++] = v;
+        }
+    for (int64_t i = 0; i < k; i++) mark[out[i]] = 0;
+    qsort(out, (size_t)k, sizeof *out, cmp_i32);
+    return k;
+}
+
+/* x := L^-1 x, column by column in increasing order over the closed set */
+void aug_ldl_lsolve(const aug_base *b, const int32_t *set, int64_t k, double *x)
+{
+    const int *Lp = b->Lp, *Li = b->Li, *Lnz = b->Lnz;
+    const double *Lx = b->Lx;
+    int64_t n = set ? k : b->n;
+    for (int64_t t = 0; t < n; t++) {
+        int64_t j = set ? set[t] : t;
+        double xj = x[j];
+        if (xj == 0) continue;
+        for (int q = Lp[j] + 1; q < Lp[j] + Lnz[j]; q++) x[Li[q]] -= Lx[q] * xj;
+    }
+}
+
+void aug_ldl_dsolve(const aug_base *b, const int32_t *set, int64_t k, double *x)
+{
+    int64_t n = set ? k : b->n;
+    for (int64_t t = 0; t < n; t++) {
+        int64_t j = set ? set[t] : t;
+        x[j] /= b->Lx[b->Lp[j]];
+    }
+}
+
+/* x := L^-T x in decreasing order; every row read lies in the closed set */
+void aug_ldl_ltsolve(const aug_base *b, const int32_t *set, int64_t k, double *x)
+{
+    const int *Lp = b->Lp, *Li = b->Li, *Lnz = b->Lnz;
+    const double *Lx = b->Lx;
+    int64_t n = set ? k : b->n;
+    for (int64_t t = n - 1; t >= 0; t--) {
+        int64_t j = set ? set[t] : t;
+        double s = x[j];
+        for (int q = Lp[j] + 1; q < Lp[j] + Lnz[j]; q++) s -= Lx[q] * x[Li[q]];
+        x[j] = s;
+    }
+}
+
+/* x := L^-T x = Ls^-T (D^1/2 x) when the supernodal factor exists */
+int aug_ldl_ltsolve_all(const aug_base *b, double *x, cholmod_dense **X, cholmod_dense **Yw,
+                        cholmod_dense **Ew, cholmod_common *cm)
+{
+    if (!b->Ls) {
+        aug_ldl_ltsolve(b, NULL, 0, x);
+        return 0;
+    }
+    for (int64_t j = 0; j < b->n; j++) x[j] *= b->sqrtd[j];
+    cholmod_dense B = {0};
+    B.nrow = B.d = (size_t)b->n, B.ncol = 1, B.nzmax = (size_t)b->n;
+    B.x = x, B.xtype = CHOLMOD_REAL, B.dtype = CHOLMOD_DOUBLE;
+    if (!cholmod_solve2(CHOLMOD_Lt, b->Ls, &B, NULL, X, NULL, Yw, Ew, cm)) return -1;
+    memcpy(x, (*X)->x, (size_t)b->n * sizeof *x);
+    return 0;
+}
+
+void aug_ldl_solve_full(const aug_base *b, const double *rhs, double *x, double *work)
+{
+    for (int64_t k = 0; k < b->n; k++) work[k] = rhs[b->perm[k]];
+    aug_ldl_lsolve(b, NULL, 0, work);
+    aug_ldl_dsolve(b, NULL, 0, work);
+    aug_ldl_ltsolve(b, NULL, 0, work);
+    for (int64_t k = 0; k < b->n; k++) x[b->perm[k]] = work[k];
+}

@@ -1,0 +1,54 @@
+/* Quality summary of a whole mesh: total measure, extremes, means and histograms. */
+#include <math.h>
+#include <string.h>
+#include "aug_stats.h"
+
+const double aug_qhist_aspect[AUG_QHIST + 1] = {1, 1.25, 1.5, 2, 3, 5, 10, 100, INFINITY};
+const double aug_qhist_angle[AUG_QHIST + 1] = {0, 10, 20, 30, 40, 50, 60, 70, 180};
+
+/* bin i with edges[i] <= v < edges[i+1]; a value within 1e-9 (relative) below
+   an edge counts as on it, so 59.99999999999999 degrees falls in [60, 70) */
+int aug_qhist_bin(const double *edges, double v)
+{
+    int b = 0;
+    for (int i = 1; i < AUG_QHIST; i++)
+        if (v >= edges[i] - 1e-9 * fmax(1, fabs(edges[i]))) b = i;
+    return b;
+}
+
+/* sums over elements of aug_elem_quality (thesis 003 sec. 3.3 for tri3 aspect) */
+void aug_mesh_qstats(const aug_mesh *m, aug_qstats *s)
+{
+    memset(s, 0, sizeof *s);
+    s->asp_min = s->ang_min = INFINITY;
+    s->asp_max = s->ang_max = s->edge_ratio_max = -INFINITY;
+    double asum = 0, gsum = 0;
+    int64_t ngood = 0;
+    for (int64_t e = 0; e < m->ne; e++) {
+        aug_quality q;
+        aug_elem_quality(m, e, &q);
+        s->measure += q.measure;
+        if (!isfinite(q.aspect) || !isfinite(q.min_angle) || !isfinite(q.edge_ratio)) {
+            s->nbad++;
+            continue;
+        }
+        ngood++;
+        asum += q.aspect;
+        gsum += q.min_angle;
+        s->asp_min = fmin(s->asp_min, q.aspect);
+        s->asp_max = fmax(s->asp_max, q.aspect);
+        s->ang_min = fmin(s->ang_min, q.min_angle);
+        s->ang_max = fmax(s->ang_max, q.min_angle);
+        s->edge_ratio_max = fmax(s->edge_ratio_max, q.edge_ratio);
+        s->asp_hist[aug_qhist_bin(aug_qhist_aspect, q.aspect)]++;
+        s->ang_hist[aug_qhist_bin(aug_qhist_angle, q.min_angle)]++;
+    }
+    s->ne = m->ne;
+    if (ngood) {
+        s->asp_mean = asum / (double)ngood;
+        s->ang_mean = gsum / (double)ngood;
+    } else {
+        s->asp_min = s->asp_max = s->asp_mean = NAN;
+        s->ang_min = s->ang_max = s->ang_mean = s->edge_ratio_max = NAN;
+    }
+}

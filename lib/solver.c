@@ -1,0 +1,405 @@
+/* The solve-aug session: every requested method on the same update stream,
+   the shared base factor and its background replacement, per-step figures. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "aug_solve.h"
+
+const char *const aug_method_names[AUG_M_COUNT] = {"amps", "gmres", "refactor", "rowupdate", "pcg"};
+
+int aug_parse_methods(const char *s, int order[AUG_M_COUNT])
+{
+    int n = 0;
+    const char *p = s;
+    while (*p) {
+        const char *q = strchr(p, ',');
+        size_t len = q ? (size_t)(q - p) : strlen(p);
+        int found = -1;
+        for (int m = 0; m < AUG_M_COUNT; m++)
+            if (strlen(aug_method_names[m]) == len && !strncmp(p, aug_method_names[m], len)) found = m;
+        if (found < 0) return -1;
+        for (int i = 0; i < n; i++)
+            if (order[i] == found) return -1;
+        if (n == AUG_M_COUNT) return -1;
+        order[n++] = found;
+        if (!q) break;
+        p = q + 1;
+    }
+    return n;
+}
+
+void aug_solver_opts_default(aug_solver_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->nmeth = 1;
+    o->order[0] = AUG_M_AMPS;
+    o->tol = 1e-8;
+    o->maxit = 10000;
+    o->restart = 100;
+    o->gmres_prec = AUG_PREC_D;
+    o->spare = 3000;
+    o->rcond_min = 1e-14;
+    o->nthreads = 1;
+}
+
+struct aug_solver {
+    aug_solver_opts o;
+    cholmod_common *cm;
+    aug_cutmat cut;
+    aug_base *base;
+    aug_cum cum;
+    aug_update *hist;
+    int nhist, hcap;
+    aug_amps amps;
+    aug_gmres *gm;
+    aug_refactor rf;
+    aug_rowupd *ru;
+    aug_bg *bg;
+    int use[AUG_M_COUNT];
+    double *field[AUG_M_COUNT];
+    int64_t fcap, pcg_n;
+    double *pcg_x, *f, *ref, *tmp, *tmp2;
+    aug_kv stat[AUG_M_COUNT], time[AUG_M_COUNT];
+    int singular[AUG_M_COUNT], converged[AUG_M_COUNT];
+    int32_t step;
+};
+
+static int copy_update(aug_update *d, const aug_update *u)
+{
+    int64_t s = (int64_t)u->m + u->k;
+    aug_update_init(d);
+    d->step = u->step, d->m = u->m, d->k = u->k;
+    d->H = aug_malloc((size_t)(u->m + 1) * sizeof *d->H);
+    d->E = aug_malloc((size_t)(s * s + 1) * sizeof *d->E);
+    d->df = aug_malloc((size_t)(s + 1) * sizeof *d->df);
+    if (!d->H || !d->E || !d->df) return -1;
+    memcpy(d->H, u->H, (size_t)u->m * sizeof *d->H);
+    memcpy(d->E, u->E, (size_t)(s * s) * sizeof *d->E);
+    memcpy(d->df, u->df, (size_t)s * sizeof *d->df);
+    return 0;
+}
+
+static void clear_hist(aug_solver *s)
+{
+    for (int i = 0; i < s->nhist; i++) aug_update_free(&s->hist[i]);
+    s->nhist = 0;
+}
+
+aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
+                           const aug_solver_opts *o, cholmod_common *cm, aug_err *e)
+{
+    aug_solver *s = aug_calloc(1, sizeof *s);
+    if (!s) {
+        cholmod_free_factor(&L0, cm);
+        aug_err_set(e, AUG_ENOMEM, -1, "FACT", "out of memory");
+        return NULL;
+    }
+    s->o = *o;
+    s->cm = cm;
+    aug_amps_init(&s->amps);
+    aug_refactor_init(&s->rf);
+    s->amps.memo.use_cholmod = o->reach_cholmod;
+    for (int i = 0; i < o->nmeth; i++) s->use[o->order[i]] = 1;
+    if ((int64_t)L0->n != (int64_t)K0->nrow) {
+        cholmod_free_factor(&L0, cm);
+        aug_err_set(e, AUG_EDATA, -1, "FACT", "factor order %lld differs from KMAT order %lld",
+                    (long long)L0->n, (long long)K0->nrow);
+        goto fail;
+    }
+    if (aug_cutmat_init(&s->cut, K0, f0, cm, e)) {
+        cholmod_free_factor(&L0, cm);
+        goto fail;
+    }
+    s->base = aug_base_new(L0, K0, f0, -1, cm, e);
+    if (!s->base || aug_cum_init(&s->cum, s->base->n, e)) goto fail;
+    if (s->use[AUG_M_GMRES]) {
+        s->gm = aug_gmres_new(o->gmres_prec, o->restart, o->maxit, o->tol, e);
+        if (!s->gm || aug_gmres_set_base(s->gm, s->base, s->cut.K0, e)) goto fail;
+    }
+    if (s->use[AUG_M_ROWUPDATE]) {
+        s->ru = aug_rowupd_new(&s->cut, s->base, o->spare, cm, e);
+        if (!s->ru) goto fail;
+    }
+    if (o->background && (s->use[AUG_M_AMPS] || s->use[AUG_M_GMRES])) {
+        s->bg = aug_bg_new(o->nthreads);
+        if (!s->bg) {
+            aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+            goto fail;
+        }
+    }
+    return s;
+fail:
+    aug_solver_free(s);
+    return NULL;
+}
+
+void aug_solver_free(aug_solver *s)
+{
+    if (!s) return;
+    aug_bg_free(s->bg);
+    clear_hist(s);
+    free(s->hist);
+    aug_amps_free(&s->amps);
+    aug_gmres_free(s->gm);
+    aug_refactor_free(&s->rf, s->cm);
+    aug_rowupd_free(s->ru, s->cm);
+    aug_base_release(s->base, s->cm);
+    aug_cum_free(&s->cum);
+    aug_cutmat_free(&s->cut, s->cm);
+    for (int m = 0; m < AUG_M_COUNT; m++) free(s->field[m]);
+    free(s->pcg_x), free(s->f), free(s->ref), free(s->tmp), free(s->tmp2);
+    free(s);
+}
+
+int64_t aug_solver_n(const aug_solver *s) { return s->cut.cum.n; }
+const double *aug_solver_field(const aug_solver *s, int m) { return s->field[m]; }
+const aug_kv *aug_solver_stat(const aug_solver *s, int m) { return &s->stat[m]; }
+const aug_kv *aug_solver_time(const aug_solver *s, int m) { return &s->time[m]; }
+int aug_solver_singular(const aug_solver *s, int m) { return s->singular[m]; }
+int aug_solver_converged(const aug_solver *s, int m) { return s->converged[m]; }
+const double *aug_solver_rhs(const aug_solver *s) { return s->f; }
+const aug_cutmat *aug_solver_cutmat(const aug_solver *s) { return &s->cut; }
+
+static int buffers(aug_solver *s, int64_t n)
+{
+    if (n <= s->fcap) return 0;
+    int64_t c = n * 2;
+    for (int m = 0; m < AUG_M_COUNT; m++) {
+        double *p = aug_realloc(s->field[m], (size_t)c * sizeof *p);
+        if (!p) return -1;
+        s->field[m] = p;
+    }
+    double **v[] = {&s->f, &s->ref, &s->tmp, &s->tmp2};
+    for (int i = 0; i < 4; i++) {
+        double *p = aug_realloc(*v[i], (size_t)c * sizeof *p);
+        if (!p) return -1;
+        *v[i] = p;
+    }
+    s->fcap = c;
+    return 0;
+}
+
+/* a finished background factor becomes the base: the cumulative update
+   shrinks to the steps after its snapshot (paper 000 fig. 1) */
+static int swap_base(aug_solver *s, aug_base *nb, aug_err *e)
+{
+    aug_base_release(s->base, s->cm);
+    s->base = nb;
+    aug_cum_free(&s->cum);
+    if (aug_cum_init(&s->cum, nb->n, e)) return e->code;
+    for (int i = 0; i < s->nhist; i++)
+        if (aug_cum_apply(&s->cum, &s->hist[i], e)) return e->code;
+    clear_hist(s);
+    aug_amps_reset(&s->amps);
+    return 0;
+}
+
+static double reldiff(const double *x, const double *r, int64_t n)
+{
+    double d = 0, q = 0;
+    for (int64_t i = 0; i < n; i++) d += (x[i] - r[i]) * (x[i] - r[i]), q += r[i] * r[i];
+    return q > 0 ? sqrt(d / q) : sqrt(d);
+}
+
+/* x += K_t^-1 (f - K_t x) with the method's own solver, iters times */
+static int refine(aug_solver *s, int m, double *x, aug_err *e)
+{
+    int64_t n = s->cut.cum.n;
+    for (int it = 0; it < s->o.refine_iter; it++) {
+        aug_cutmat_mult(&s->cut, x, s->tmp);
+        for (int64_t i = 0; i < n; i++) s->tmp[i] = s->f[i] - s->tmp[i];
+        int rc = 0;
+        if (m == AUG_M_AMPS) rc = aug_amps_solve_general(&s->amps, s->base, &s->cum, s->tmp, s->tmp2, e);
+        else if (m == AUG_M_GMRES) rc = aug_gmres_solve_general(s->gm, s->base, &s->cum, s->tmp, s->tmp2, e);
+        else if (m == AUG_M_REFACTOR) rc = aug_refactor_solve(&s->rf, s->tmp, s->tmp2, s->cm, e);
+        else if (m == AUG_M_ROWUPDATE) rc = aug_rowupd_solve(s->ru, n, s->tmp, s->tmp2, s->cm, e);
+        if (rc) return rc;
+        for (int64_t i = 0; i < n; i++) x[i] += s->tmp2[i];
+    }
+    return 0;
+}
+
+/* fresh CHOLMOD solve of K_t (the --check reference); 1 if K_t is not SPD */
+static int direct_ref(aug_solver *s, aug_err *e)
+{
+    if (s->use[AUG_M_REFACTOR] && !s->singular[AUG_M_REFACTOR]) {
+        memcpy(s->ref, s->field[AUG_M_REFACTOR], (size_t)s->cut.cum.n * sizeof *s->ref);
+        return 0;
+    }
+    aug_refactor r;
+    aug_refactor_init(&r);
+    double t[4];
+    int rc = aug_refactor_step(&r, &s->cut, s->ref, t, s->cm, e);
+    int sing = r.singular;
+    aug_refactor_free(&r, s->cm);
+    return rc ? -1 : sing;
+}
+
+static void put(aug_kv *kv, const char *k, double v) { aug_kv_set(kv, k, v); }
+
+int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int64_t nout,
+                    int flags, aug_err *e)
+{
+    s->step = u->step;
+    if (aug_cutmat_apply(&s->cut, u, e)) return e->code;
+    int64_t n = s->cut.cum.n;
+    if (buffers(s, n)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    aug_cutmat_rhs(&s->cut, s->f);
+    int swapped = 0;
+    if (s->bg && aug_bg_running(s->bg) &&
+        (aug_bg_done(s->bg) || (s->o.bg_lag > 0 && s->step - aug_bg_step(s->bg) >= s->o.bg_lag))) {
+        aug_err be;
+        aug_base *nb = aug_bg_join(s->bg, &be);
+        if (nb) {
+            if (swap_base(s, nb, e)) return e->code;
+            swapped = 1;
+        } else {
+            clear_hist(s);
+        }
+    }
+    if (aug_cum_apply(&s->cum, u, e)) return e->code;
+    if (s->bg && aug_bg_running(s->bg)) {
+        if (s->nhist == s->hcap) {
+            int c = s->hcap ? 2 * s->hcap : 16;
+            aug_update *h = aug_realloc(s->hist, (size_t)c * sizeof *h);
+            if (!h) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+            s->hist = h, s->hcap = c;
+        }
+        if (copy_update(&s->hist[s->nhist++], u)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    }
+    /* a step that detaches a piece without Dirichlet support is singular */
+    int detached = (flags & AUG_STEP_DETACHED) && !(flags & (AUG_STEP_PINNED | AUG_STEP_DROPPED));
+    int nsing = 0;
+    for (int oi = 0; oi < s->o.nmeth; oi++) {
+        int m = s->o.order[oi];
+        aug_kv *st = &s->stat[m], *tm = &s->time[m];
+        aug_kv_init(st, aug_method_names[m]);
+        aug_kv_init(tm, aug_method_names[m]);
+        double *x = s->field[m], t[4] = {0, 0, 0, 0}, t0 = aug_wall_ms();
+        int iters = 0, conv = 1, sing = detached, rc = 0;
+        int full = !out || s->o.refine_iter > 0;
+        memset(x, 0, (size_t)n * sizeof *x);
+        put(st, "n", (double)n);
+        put(st, "m_step", u->m);
+        put(st, "k_step", u->k);
+        if (sing) {
+        } else if (m == AUG_M_AMPS) {
+            rc = aug_amps_step(&s->amps, s->base, &s->cum, full ? NULL : out, nout, s->o.rcond_min, x, t,
+                               s->cm, e);
+            sing = s->amps.schur.singular;
+            put(st, "m", (double)aug_cum_morig(&s->cum));
+            put(st, "k", (double)(s->cum.n - s->cum.nb));
+            put(st, "m_active", (double)s->amps.schur.na);
+            put(st, "m_new", (double)s->amps.memo.m_new);
+            put(st, "reach_new", (double)s->amps.memo.reach_new);
+            put(st, "closure_v", (double)s->amps.closure_v);
+            put(st, "closure_out", (double)s->amps.nq);
+            put(st, "rcond", s->amps.schur.rcond);
+            put(tm, "reach", t[0]), put(tm, "memo", t[1]), put(tm, "schur", t[2]), put(tm, "solve", t[3]);
+        } else if (m == AUG_M_GMRES) {
+            rc = aug_gmres_step(s->gm, s->base, &s->cum, &s->cut, full ? NULL : out, nout, x, t, e);
+            iters = aug_gmres_iters(s->gm);
+            conv = aug_gmres_converged(s->gm);
+            put(st, "m", (double)s->cum.ns);
+            put(st, "k", (double)(s->cum.n - s->cum.nb));
+            put(st, "closure_j", (double)aug_gmres_closure_j(s->gm));
+            put(st, "closure_h", (double)aug_gmres_closure_h(s->gm));
+            put(tm, "setup", t[0]), put(tm, "rhs", t[1]), put(tm, "iter", t[2]), put(tm, "solve", t[3]);
+        } else if (m == AUG_M_REFACTOR) {
+            rc = aug_refactor_step(&s->rf, &s->cut, x, t, s->cm, e);
+            sing = s->rf.singular;
+            put(st, "analyzed", s->rf.analyzed);
+            put(tm, "assemble", t[0]), put(tm, "analyze", t[1]), put(tm, "factor", t[2]), put(tm, "solve", t[3]);
+        } else if (m == AUG_M_ROWUPDATE) {
+            int64_t rows = 0;
+            int rebuilt = 0;
+            rc = aug_rowupd_step(s->ru, &s->cut, u, x, t, &rows, &rebuilt, &sing, s->cm, e);
+            put(st, "rows", (double)rows);
+            put(st, "rebuilt", rebuilt);
+            put(tm, "update", t[0]), put(tm, "solve", t[1]);
+        } else {
+            double ta = aug_wall_ms();
+            cholmod_sparse *K = aug_cutmat_sparse(&s->cut, 0, s->cm);
+            if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+            double tb = aug_wall_ms();
+            double *xp = aug_realloc(s->pcg_x, (size_t)n * sizeof *xp);
+            if (!xp) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+            s->pcg_x = xp;
+            if (s->pcg_n == 0) memcpy(xp, s->base->a, (size_t)s->base->n * sizeof *xp), s->pcg_n = s->base->n;
+            for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0; /* warm start: the previous step */
+            s->pcg_n = n;
+            int bd = 0;
+            double rr;
+            iters = aug_pcg(K, s->f, xp, s->o.tol, s->o.maxit, &conv, &bd, &rr, s->cm);
+            cholmod_free_sparse(&K, s->cm);
+            sing = bd;
+            memcpy(x, xp, (size_t)n * sizeof *x);
+            put(tm, "assemble", tb - ta), put(tm, "iter", aug_wall_ms() - tb);
+        }
+        if (rc) return rc;
+        if (!sing && s->o.refine_iter > 0 && m != AUG_M_PCG) {
+            double tr = aug_wall_ms();
+            if ((rc = refine(s, m, x, e))) return rc;
+            put(tm, "refine", aug_wall_ms() - tr);
+        }
+        double total = aug_wall_ms() - t0;
+        if (m == AUG_M_REFACTOR || m == AUG_M_PCG || m == AUG_M_ROWUPDATE) {
+            put(st, "m", (double)aug_cum_morig(&s->cut.cum));
+            put(st, "k", (double)(n - s->cut.n0));
+        }
+        put(st, "iters", iters);
+        put(st, "refine", sing || m == AUG_M_PCG ? 0 : s->o.refine_iter);
+        /* untimed: the whole vector for the residual when only outputs were solved */
+        if (!sing && !full && m == AUG_M_AMPS)
+            rc = aug_amps_solve_general(&s->amps, s->base, &s->cum, s->f, s->tmp2, e);
+        if (!sing && !full && m == AUG_M_GMRES)
+            rc = aug_gmres_solve_general(s->gm, s->base, &s->cum, s->f, s->tmp2, e);
+        if (rc) return rc;
+        if (!sing && !full && (m == AUG_M_AMPS || m == AUG_M_GMRES)) {
+            /* keep the output-set values as solved; fill the rest */
+            for (int64_t t2 = 0; t2 < nout; t2++) s->tmp[t2] = x[out[t2]];
+            memcpy(x, s->tmp2, (size_t)n * sizeof *x);
+            for (int64_t t2 = 0; t2 < nout; t2++) x[out[t2]] = s->tmp[t2];
+        }
+        double rr = sing ? NAN : aug_cutmat_relres(&s->cut, x);
+        if (!sing && !(rr < 1e-2) && m == AUG_M_AMPS) sing = 1; /* numerically singular S2 */
+        put(st, "relres", sing ? NAN : rr);
+        put(st, "converged", sing ? 0 : conv);
+        put(st, "singular", sing);
+        if (m == AUG_M_AMPS || m == AUG_M_GMRES) {
+            put(st, "swapped", swapped);
+            put(st, "base_step", s->base->step);
+        }
+        put(tm, "time_ms", total);
+        s->singular[m] = sing;
+        s->converged[m] = !sing && conv;
+        nsing += sing;
+    }
+    if (s->o.check) {
+        int ds = direct_ref(s, e);
+        if (ds < 0) return e->code;
+        for (int oi = 0; oi < s->o.nmeth; oi++) {
+            int m = s->o.order[oi];
+            put(&s->stat[m], "err_direct", ds || s->singular[m] ? NAN : reldiff(s->field[m], s->ref, n));
+            put(&s->stat[m], "direct_spd", !ds);
+        }
+    }
+    /* the next background job starts from this step's matrix */
+    if (s->bg && !aug_bg_running(s->bg)) {
+        double tb = aug_wall_ms();
+        cholmod_sparse *K = aug_cutmat_sparse(&s->cut, 0, s->cm);
+        if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+        clear_hist(s);
+        if (aug_bg_start(s->bg, K, s->f, s->step, e)) {
+            cholmod_free_sparse(&K, s->cm);
+            return e->code;
+        }
+        double tsnap = aug_wall_ms() - tb;
+        for (int oi = 0; oi < s->o.nmeth; oi++) {
+            int m = s->o.order[oi];
+            if (m == AUG_M_AMPS || m == AUG_M_GMRES) put(&s->time[m], "bg_snapshot", tsnap);
+        }
+    }
+    (void)nsing;
+    return 0;
+}

@@ -1,0 +1,668 @@
+/* Stream summary: counts, pipeline, mesh, quality, matrices and per-step figures. */
+#include <cholmod.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "aug_stats.h"
+
+#define MAXTYPES 64 /* distinct record types listed; more are folded into "other" */
+#define MAXMAT 16   /* KMAT / FVEC / cOND records listed */
+
+typedef struct tcount {
+    char type[8];
+    long count;
+    uint64_t raw, wire;
+} tcount;
+
+/* mesh figures at one moment (initial, final) */
+typedef struct snap {
+    int valid;
+    int64_t nn, ne;
+    double lo[3], hi[3];
+    aug_qstats q;
+    int64_t *per_mat;  /* elements per material */
+    int64_t *set_size; /* nodes per named set */
+    int64_t fix_nodes, fix_nonzero, nfix, nload, nout;
+    double force[3];   /* sum of the loads per component */
+} snap;
+
+struct aug_summary {
+    char producer[256];
+    uint32_t minor;
+    int32_t limit;
+    int complete;
+    long nrec;
+    uint64_t raw, wire;
+    tcount tc[MAXTYPES + 1];
+    int ntc;
+    char **prov;
+    int nprov;
+    aug_mesh mesh;
+    snap init, fin;
+    long applied;              /* mesh deltas applied (step <= limit) */
+    int have_dofm;
+    int64_t ndof, nfree;
+    int nkmat, nfvec, ncond;
+    struct { int32_t which, stype; int64_t n, nnz; } kmat[MAXMAT];
+    struct { int32_t kind; int64_t n; double norm; } fvec[MAXMAT];
+    aug_kv cond[MAXMAT];
+    int have_fact;
+    int64_t fact_n, fact_nnz;
+    int32_t fact_ord;
+    int32_t last_step;
+    long nsteps;
+    long nmdlt, flag_count[3];
+    int64_t nnew, nmod, nadd;
+    long nupdt;
+    int64_t m_max, k_sum, mk_max;
+    double *m_all;             /* m of every UPDT, for the median */
+    long npath;
+    int64_t nseg;
+    long nfeld;
+    int32_t f_step;            /* the kept displacement field (step <= limit) */
+    int f_dim, f_indexed;
+    int64_t f_count;
+    int32_t *f_node;
+    double *f_u, f_max;
+    long nqual;
+    int32_t qual_step;
+    aug_kv qual;
+    long nmode;
+    aug_steptab tab;
+};
+
+aug_summary *aug_summary_new(const aug_reader *r, int32_t step_limit, aug_err *e)
+{
+    aug_err_clear(e);
+    aug_summary *s = aug_calloc(1, sizeof *s);
+    if (!s) {
+        aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+        return NULL;
+    }
+    snprintf(s->producer, sizeof s->producer, "%s", aug_reader_producer(r));
+    uint32_t flags;
+    uint64_t len, wl;
+    aug_reader_head(r, &s->minor, &flags, &len, &wl);
+    s->limit = step_limit;
+    s->last_step = -1;
+    s->f_step = -1;
+    s->qual_step = -1;
+    aug_mesh_init(&s->mesh);
+    aug_steptab_init(&s->tab);
+    memcpy(s->tc[0].type, "HEAD", 5);
+    s->tc[0].count = 1;
+    s->tc[0].raw = len;
+    s->tc[0].wire = wl;
+    s->ntc = 1;
+    s->nrec = 1;
+    s->raw = len;
+    s->wire = 8 + wl;
+    return s;
+}
+
+static void snap_free(snap *p)
+{
+    free(p->per_mat);
+    free(p->set_size);
+}
+
+void aug_summary_free(aug_summary *s)
+{
+    if (!s) return;
+    for (int i = 0; i < s->nprov; i++) free(s->prov[i]);
+    free(s->prov);
+    aug_mesh_free(&s->mesh);
+    snap_free(&s->init);
+    snap_free(&s->fin);
+    free(s->m_all);
+    free(s->f_node);
+    free(s->f_u);
+    aug_steptab_free(&s->tab);
+    free(s);
+}
+
+static void count(aug_summary *s, const aug_rec *rec)
+{
+    int i = 0;
+    while (i < s->ntc && memcmp(s->tc[i].type, rec->type, 4) != 0) i++;
+    if (i == s->ntc) {
+        if (s->ntc == MAXTYPES) i = MAXTYPES, memcpy(s->tc[i].type, "other", 6);
+        else memcpy(s->tc[s->ntc++].type, rec->type, 5);
+    }
+    s->tc[i].count++;
+    s->tc[i].raw += rec->len;
+    s->tc[i].wire += rec->wirelen;
+    s->nrec++;
+    s->raw += rec->len;
+    s->wire += rec->wirelen;
+}
+
+/* figures of the current mesh (nothing when it has no elements yet) */
+static int take_snap(aug_summary *s, snap *p)
+{
+    const aug_mesh *m = &s->mesh;
+    snap_free(p);
+    memset(p, 0, sizeof *p);
+    if ((m->have & (AUG_HAVE_NODE | AUG_HAVE_ELEM | AUG_HAVE_MATL)) !=
+        (AUG_HAVE_NODE | AUG_HAVE_ELEM | AUG_HAVE_MATL))
+        return 0;
+    p->per_mat = aug_calloc((size_t)m->nmat, sizeof *p->per_mat);
+    p->set_size = aug_calloc((size_t)m->nset, sizeof *p->set_size);
+    unsigned char *fixed = aug_calloc((size_t)m->nn, 1);
+    if (!p->per_mat || !p->set_size || !fixed) {
+        free(fixed);
+        return -1;
+    }
+    for (int i = 0; i < m->nset; i++) p->set_size[i] = m->sets[i].n;
+    for (int64_t i = 0; i < m->nfix; i++) {
+        int64_t node = m->fix_dof[i] / m->dim;
+        p->fix_nodes += !fixed[node];
+        fixed[node] = 1;
+        p->fix_nonzero += m->fix_val[i] != 0;
+    }
+    free(fixed);
+    p->nfix = m->nfix;
+    p->nload = m->nload;
+    for (int64_t i = 0; i < m->nload; i++) p->force[m->load_dof[i] % m->dim] += m->load_val[i];
+    p->nout = m->nout;
+    p->valid = 1;
+    p->nn = m->nn;
+    p->ne = m->ne;
+    for (int d = 0; d < 3; d++) p->lo[d] = INFINITY, p->hi[d] = -INFINITY;
+    for (int64_t i = 0; i < m->nn; i++)
+        for (int d = 0; d < m->dim; d++) {
+            p->lo[d] = fmin(p->lo[d], m->x[i * m->dim + d]);
+            p->hi[d] = fmax(p->hi[d], m->x[i * m->dim + d]);
+        }
+    for (int64_t i = 0; i < m->ne; i++) p->per_mat[m->mat[i]]++;
+    aug_mesh_qstats(m, &p->q);
+    return 0;
+}
+
+static int add_prov(aug_summary *s, const aug_rec *rec)
+{
+    char **q = aug_realloc(s->prov, (size_t)(s->nprov + 1) * sizeof *q);
+    if (!q) return -1;
+    s->prov = q;
+    char *t = aug_malloc((size_t)rec->len + 1);
+    if (!t) return -1;
+    memcpy(t, rec->data, (size_t)rec->len);
+    t[rec->len] = 0;
+    s->prov[s->nprov++] = t;
+    return 0;
+}
+
+static int add_mdlt(aug_summary *s, const aug_rec *rec, aug_err *e)
+{
+    aug_mesh *m = &s->mesh;
+    if ((m->have & (AUG_HAVE_NODE | AUG_HAVE_ELEM)) != (AUG_HAVE_NODE | AUG_HAVE_ELEM))
+        return aug_err_set(e, AUG_EORDER, rec->index, rec->type, "mesh delta before NODE and ELEM");
+    if (!s->init.valid && take_snap(s, &s->init))
+        return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+    aug_mdelta d;
+    int rc = aug_read_mdelta(rec, m->dim, m->nv, &d, e);
+    if (!rc) {
+        s->nmdlt++;
+        s->nnew += d.nnew;
+        s->nmod += d.nmod;
+        s->nadd += d.nadd;
+        for (int b = 0; b < 3; b++) s->flag_count[b] += (d.flags >> b) & 1;
+        if (rec->step <= s->limit) {
+            rc = aug_mesh_apply(m, &d, e);
+            if (rc) e->record = rec->index; /* aug_mesh_apply does not know the index */
+            else s->applied++;
+        }
+    }
+    aug_mdelta_free(&d);
+    return rc;
+}
+
+static int add_updt(aug_summary *s, const aug_rec *rec, aug_err *e)
+{
+    aug_update u;
+    int rc = aug_read_update(rec, &u, e);
+    if (!rc) {
+        double *q = aug_realloc(s->m_all, (size_t)(s->nupdt + 1) * sizeof *q);
+        if (!q) rc = aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+        else {
+            s->m_all = q;
+            q[s->nupdt++] = u.m;
+            if (u.m > s->m_max) s->m_max = u.m;
+            s->k_sum += u.k;
+            if (u.m + u.k > s->mk_max) s->mk_max = u.m + u.k;
+        }
+    }
+    aug_update_free(&u);
+    return rc;
+}
+
+/* fELD: validated; the last displacement field of a step <= limit is kept */
+static int add_feld(aug_summary *s, const aug_rec *rec, aug_err *e)
+{
+    if (aug_check_payload(rec, e)) return e->code;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t kind = aug_cur_i32(&c), dim = aug_cur_i32(&c);
+    int64_t count = aug_cur_i64(&c);
+    int32_t indexed = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    s->nfeld++;
+    if (kind != 0 || rec->step > s->limit) return 0;
+    int32_t *node = NULL;
+    double *u = aug_malloc((size_t)count * (size_t)dim * sizeof *u);
+    if (indexed) node = aug_malloc((size_t)count * sizeof *node);
+    if (!u || (indexed && !node)) {
+        free(u);
+        free(node);
+        return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+    }
+    if (indexed) aug_cur_i32v(&c, node, (uint64_t)count);
+    aug_cur_f64v(&c, u, (uint64_t)count * dim);
+    free(s->f_node);
+    free(s->f_u);
+    s->f_node = node;
+    s->f_u = u;
+    s->f_step = rec->step;
+    s->f_dim = dim;
+    s->f_indexed = indexed;
+    s->f_count = count;
+    s->f_max = 0;
+    for (int64_t i = 0; i < count; i++) {
+        double n2 = 0;
+        for (int d = 0; d < dim; d++) n2 += u[i * dim + d] * u[i * dim + d];
+        s->f_max = fmax(s->f_max, sqrt(n2));
+    }
+    return 0;
+}
+
+static int add_matrix(aug_summary *s, const aug_rec *rec, aug_err *e)
+{
+    if (aug_check_payload(rec, e)) return e->code;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    const char *t = rec->type;
+    if (!memcmp(t, "DOFM", 4)) {
+        aug_cur_i32(&c);
+        aug_cur_i32(&c);
+        s->ndof = aug_cur_i64(&c);
+        s->nfree = aug_cur_i64(&c);
+        s->have_dofm = 1;
+    } else if (!memcmp(t, "KMAT", 4)) {
+        int32_t which = aug_cur_i32(&c), stype = aug_cur_i32(&c);
+        int64_t n = aug_cur_i64(&c), nnz = aug_cur_i64(&c);
+        if (s->nkmat < MAXMAT) {
+            s->kmat[s->nkmat].which = which, s->kmat[s->nkmat].stype = stype;
+            s->kmat[s->nkmat].n = n, s->kmat[s->nkmat].nnz = nnz;
+        }
+        s->nkmat++;
+    } else if (!memcmp(t, "FVEC", 4)) {
+        int32_t kind = aug_cur_i32(&c);
+        aug_cur_i32(&c);
+        int64_t n = aug_cur_i64(&c);
+        double ss = 0;
+        for (int64_t i = 0; i < n; i++) {
+            double v = aug_cur_f64(&c);
+            ss += v * v;
+        }
+        if (s->nfvec < MAXMAT) s->fvec[s->nfvec].kind = kind, s->fvec[s->nfvec].n = n,
+                               s->fvec[s->nfvec].norm = sqrt(ss);
+        s->nfvec++;
+    } else if (!memcmp(t, "FACT", 4)) {
+        s->fact_n = aug_cur_i64(&c);
+        s->fact_nnz = aug_cur_i64(&c);
+        s->fact_ord = aug_cur_i32(&c);
+        s->have_fact = 1;
+    } else { /* cOND */
+        aug_kv kv;
+        if (aug_read_kv(rec, &kv, e)) return e->code;
+        if (s->ncond < MAXMAT) s->cond[s->ncond] = kv;
+        s->ncond++;
+    }
+    return 0;
+}
+
+static int is(const aug_rec *rec, const char *t) { return memcmp(rec->type, t, 4) == 0; }
+
+int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e)
+{
+    aug_err_clear(e);
+    count(s, rec);
+    const aug_rectype *rt = aug_rectype_find(rec->type);
+    if (rt && rt->perstep && rec->step >= 0) {
+        if (rec->step != s->last_step) s->nsteps++;
+        if (rec->step > s->last_step) s->last_step = rec->step;
+    }
+    int rc = 0;
+    if (is(rec, "pROv")) {
+        if (add_prov(s, rec)) rc = aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+    } else if (aug_mesh_is_record(rec->type)) {
+        rc = aug_mesh_absorb(&s->mesh, rec, e);
+    } else if (is(rec, "DOFM") || is(rec, "KMAT") || is(rec, "FVEC") || is(rec, "FACT") ||
+               is(rec, "cOND")) {
+        rc = add_matrix(s, rec, e);
+    } else if (is(rec, "MDLT")) {
+        rc = add_mdlt(s, rec, e);
+    } else if (is(rec, "UPDT")) {
+        rc = add_updt(s, rec, e);
+    } else if (is(rec, "fELD")) {
+        rc = add_feld(s, rec, e);
+    } else if (is(rec, "pATH")) {
+        rc = aug_check_payload(rec, e);
+        aug_cur c;
+        aug_cur_init(&c, rec);
+        c.pos = 8;
+        s->npath++;
+        s->nseg += rc ? 0 : aug_cur_i64(&c);
+    } else if (is(rec, "sTAt") || is(rec, "tIMe")) {
+        rc = aug_steptab_add(&s->tab, rec, e);
+    } else if (is(rec, "qUAl")) {
+        rc = aug_read_kv(rec, &s->qual, e);
+        s->nqual++;
+        s->qual_step = rec->step;
+    } else if (is(rec, "MODE")) {
+        s->nmode++;
+    }
+    return rc;
+}
+
+void aug_summary_end(aug_summary *s, const aug_rec *tail)
+{
+    if (tail) {
+        count(s, tail);
+        s->complete = 1;
+    }
+}
+
+const aug_steptab *aug_summary_steps(const aug_summary *s) { return &s->tab; }
+int32_t aug_summary_last_step(const aug_summary *s) { return s->last_step; }
+
+const aug_mesh *aug_summary_mesh(const aug_summary *s)
+{
+    int need = AUG_HAVE_NODE | AUG_HAVE_ELEM | AUG_HAVE_MATL;
+    return (s->mesh.have & need) == need ? &s->mesh : NULL;
+}
+
+int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned char **mask,
+                      aug_err *e)
+{
+    aug_err_clear(e);
+    *step = s->f_step;
+    *u = NULL;
+    *mask = NULL;
+    const aug_mesh *m = aug_summary_mesh(s);
+    if (s->f_step < 0 || !m) return 0;
+    if (s->f_dim != m->dim)
+        return aug_err_set(e, AUG_EDATA, -1, "fELD", "step %d: field of dimension %d on a %d-D mesh",
+                           (int)s->f_step, s->f_dim, m->dim);
+    if (!s->f_indexed && s->f_count > m->nn)
+        return aug_err_set(e, AUG_EDATA, -1, "fELD", "step %d: %lld values for %lld nodes",
+                           (int)s->f_step, (long long)s->f_count, (long long)m->nn);
+    double *x = aug_calloc((size_t)m->nn * m->dim, sizeof *x);
+    unsigned char *k = aug_calloc((size_t)m->nn, 1);
+    if (!x || !k) {
+        free(x);
+        free(k);
+        return aug_err_set(e, AUG_ENOMEM, -1, "fELD", "out of memory");
+    }
+    for (int64_t i = 0; i < s->f_count; i++) {
+        int64_t node = s->f_indexed ? s->f_node[i] : i;
+        if (node < 0 || node >= m->nn) {
+            free(x);
+            free(k);
+            return aug_err_set(e, AUG_EDATA, -1, "fELD", "step %d: node %lld out of range",
+                               (int)s->f_step, (long long)node);
+        }
+        memcpy(x + node * m->dim, s->f_u + i * m->dim, (size_t)m->dim * sizeof *x);
+        k[node] = 1;
+    }
+    *u = x;
+    *mask = k;
+    return 0;
+}
+
+static void print_hist(FILE *o, const char *what, const double *edges, const int64_t *h)
+{
+    int64_t mx = 0;
+    for (int i = 0; i < AUG_QHIST; i++) mx = h[i] > mx ? h[i] : mx;
+    fprintf(o, "  %s histogram\n", what);
+    for (int i = 0; i < AUG_QHIST; i++) {
+        char lab[48];
+        if (isinf(edges[i + 1])) snprintf(lab, sizeof lab, ">= %g", edges[i]);
+        else snprintf(lab, sizeof lab, "[%g, %g)", edges[i], edges[i + 1]);
+        int bar = mx ? (int)((40 * h[i] + mx - 1) / mx) : 0;
+        fprintf(o, "    %-12s %10lld%s", lab, (long long)h[i], bar ? " " : "");
+        for (int b = 0; b < bar; b++) fputc('#', o);
+        fputc('\n', o);
+    }
+}
+
+static void print_quality(FILE *o, const aug_summary *s, const snap *p, const char *which)
+{
+    const aug_mesh *m = &s->mesh;
+    int tet = m->nv == 4;
+    const char *ang = tet ? "min dihedral" : "min angle";
+    fprintf(o, "quality (%s mesh: %lld elements)\n", which, (long long)p->q.ne);
+    fprintf(o, "  total %-10s %.10g\n", tet ? "volume" : "area", p->q.measure);
+    fprintf(o, "  aspect ratio     min %.6g  mean %.6g  max %.6g  (%s)\n", p->q.asp_min,
+            p->q.asp_mean, p->q.asp_max, tet ? "R/(3r), 1 for the regular tet" : "longest/shortest edge");
+    fprintf(o, "  %-16s min %.6g  mean %.6g  max %.6g  (degrees)\n", ang, p->q.ang_min,
+            p->q.ang_mean, p->q.ang_max);
+    fprintf(o, "  edge ratio max   %.6g\n", p->q.edge_ratio_max);
+    if (p->q.nbad) fprintf(o, "  degenerate       %lld elements (no finite quality)\n", (long long)p->q.nbad);
+    print_hist(o, "aspect ratio", aug_qhist_aspect, p->q.asp_hist);
+    print_hist(o, ang, aug_qhist_angle, p->q.ang_hist);
+}
+
+/* each tool writes its pROv first and passes the upstream ones after it, so
+   the pipeline runs from the last pROv record to the first */
+static void print_prov(FILE *o, const aug_summary *s)
+{
+    fprintf(o, "  pipeline         %d pROv records, first tool first\n", s->nprov);
+    for (int i = s->nprov - 1; i >= 0; i--) {
+        const char *t = s->prov[i], *nl = strchr(t, '\n');
+        fprintf(o, "    %d. ", s->nprov - i);
+        for (const char *c = nl ? nl + 1 : t; *c; c++)
+            fputc(*c == '\n' ? ' ' : (unsigned char)*c < ' ' ? '?' : *c, o);
+        if (nl) fprintf(o, "   [%.*s]", (int)(nl - t), t);
+        fputc('\n', o);
+    }
+}
+
+static void print_mesh(FILE *o, const aug_summary *s)
+{
+    const aug_mesh *m = &s->mesh;
+    const snap *p = &s->init;
+    fprintf(o, "mesh\n");
+    fprintf(o, "  dimension        %d (%s)\n", m->dim, m->nv == 4 ? "tet4" : "tri3");
+    fprintf(o, "  nodes            %lld\n", (long long)p->nn);
+    fprintf(o, "  elements         %lld\n", (long long)p->ne);
+    static const char ax[] = "xyz";
+    fprintf(o, "  bounding box    ");
+    for (int d = 0; d < m->dim; d++) fprintf(o, " %c [%.6g, %.6g]", ax[d], p->lo[d], p->hi[d]);
+    fputc('\n', o);
+    fprintf(o, "materials (%d)\n", m->nmat);
+    fprintf(o, "  %3s %6s  %-20s %12s %8s %10s %8s %10s\n", "#", "id", "name", "E", "nu", "rho", "t",
+            "elements");
+    for (int i = 0; i < m->nmat; i++) {
+        const aug_material *a = &m->mats[i];
+        fprintf(o, "  %3d %6d  %-20s %12.6g %8.4g %10.6g %8.4g %10lld\n", i, (int)a->id, a->name,
+                a->E, a->nu, a->rho, a->t, (long long)p->per_mat[i]);
+    }
+}
+
+static void print_scene(FILE *o, const aug_summary *s)
+{
+    const aug_mesh *m = &s->mesh;
+    const snap *p = &s->init;
+    fprintf(o, "sets (%d)\n", m->nset);
+    for (int i = 0; i < m->nset; i++)
+        fprintf(o, "  %-24s %10lld nodes\n", m->sets[i].name, (long long)p->set_size[i]);
+    if (m->have & AUG_HAVE_FIXD)
+        fprintf(o, "constraints        %lld DOFs on %lld nodes (%lld prescribed non-zero)\n",
+                (long long)p->nfix, (long long)p->fix_nodes, (long long)p->fix_nonzero);
+    if (m->have & AUG_HAVE_LOAD) {
+        fprintf(o, "loads              %lld DOFs, total force (", (long long)p->nload);
+        for (int d = 0; d < m->dim; d++) fprintf(o, "%s%.6g", d ? ", " : "", p->force[d]);
+        fprintf(o, ")\n");
+    }
+    if (m->have & AUG_HAVE_OUTS) {
+        static const char *kinds[] = {"all", "surface", "set"};
+        fprintf(o, "output set         %s", kinds[m->out_kind]);
+        if (m->out_kind == AUG_OUT_SET) fprintf(o, " '%s'", m->out_name);
+        if (m->out_kind == AUG_OUT_ALL && p->nout == 0) fprintf(o, " (all nodes)\n");
+        else fprintf(o, " (%lld nodes)\n", (long long)p->nout);
+    }
+}
+
+static void print_matrices(FILE *o, const aug_summary *s)
+{
+    if (!s->have_dofm && !s->nkmat && !s->nfvec && !s->have_fact && !s->ncond) return;
+    static const char *which[] = {"stiffness K", "consistent mass M", "lumped mass"};
+    fprintf(o, "matrices\n");
+    if (s->have_dofm)
+        fprintf(o, "  DOFM  %lld DOFs, %lld free, %lld constrained\n", (long long)s->ndof,
+                (long long)s->nfree, (long long)(s->ndof - s->nfree));
+    for (int i = 0; i < s->nkmat && i < MAXMAT; i++)
+        fprintf(o, "  KMAT  %s: n %lld, nnz %lld (%s)\n",
+                s->kmat[i].which >= 0 && s->kmat[i].which <= 2 ? which[s->kmat[i].which] : "unknown",
+                (long long)s->kmat[i].n, (long long)s->kmat[i].nnz,
+                s->kmat[i].stype == 1 ? "upper triangle" : "stype other than 1");
+    for (int i = 0; i < s->nfvec && i < MAXMAT; i++)
+        fprintf(o, "  FVEC  kind %d: n %lld, 2-norm %.6g\n", (int)s->fvec[i].kind,
+                (long long)s->fvec[i].n, s->fvec[i].norm);
+    if (s->have_fact)
+        fprintf(o, "  FACT  LDL': n %lld, nnz(L+D) %lld, ordering %s (%d)\n", (long long)s->fact_n,
+                (long long)s->fact_nnz, aug_ordering_name(s->fact_ord), (int)s->fact_ord);
+    for (int i = 0; i < s->ncond && i < MAXMAT; i++) {
+        fprintf(o, "  cOND  %s:", s->cond[i].tag);
+        for (int k = 0; k < s->cond[i].n; k++)
+            fprintf(o, " %s %.6g", s->cond[i].key[k], s->cond[i].val[k]);
+        fputc('\n', o);
+    }
+}
+
+/* per method, in order of first appearance */
+static int print_methods(FILE *o, const aug_summary *s)
+{
+    const aug_steptab *t = &s->tab;
+    if (!t->n) return 0;
+    double *rr = aug_malloc(t->n * sizeof *rr), *tm = aug_malloc(t->n * sizeof *tm);
+    if (!rr || !tm) {
+        free(rr);
+        free(tm);
+        return -1;
+    }
+    fprintf(o, "methods (sTAt, tIMe)\n");
+    fprintf(o, "  %-12s %6s %13s %13s %9s %14s %12s\n", "method", "steps", "relres_median",
+            "relres_max", "failures", "time_ms_median", "rate_Hz");
+    for (size_t i = 0; i < t->n; i++) {
+        size_t j = 0;
+        while (j < i && strncmp(t->row[j].method, t->row[i].method, 16) != 0) j++;
+        if (j < i) continue; /* already printed */
+        size_t nst = 0, nr = 0, nt = 0, fail = 0;
+        double rmax = -INFINITY;
+        for (j = i; j < t->n; j++) {
+            const aug_steprow *r = &t->row[j];
+            if (strncmp(r->method, t->row[i].method, 16) != 0) continue;
+            int f;
+            double v;
+            if (r->has_stat) {
+                nst++;
+                v = aug_steprow_get(r, "relres", &f);
+                if (f) rr[nr++] = v, rmax = fmax(rmax, v);
+                v = aug_steprow_get(r, "converged", &f);
+                if (f && v == 0) fail++;
+            }
+            if (r->has_time && (v = aug_steprow_get(r, "time_ms", &f), f)) tm[nt++] = v;
+        }
+        char c[4][32]; /* "-" where the records have no such value */
+        double med = aug_median(rr, nr), tmed = aug_median(tm, nt);
+        double v[4] = {med, rmax, tmed, 1000.0 / tmed};
+        int have[4] = {nr > 0, nr > 0, nt > 0, nt > 0};
+        for (int k = 0; k < 4; k++)
+            if (have[k]) snprintf(c[k], sizeof c[k], "%.4g", v[k]);
+            else snprintf(c[k], sizeof c[k], "-");
+        fprintf(o, "  %-12s %6zu %13s %13s %9zu %14s %12s\n", t->row[i].method, nst, c[0], c[1],
+                fail, c[2], c[3]);
+    }
+    free(rr);
+    free(tm);
+    return 0;
+}
+
+static void print_steps(FILE *o, const aug_summary *s)
+{
+    if (s->last_step < 0) return;
+    fprintf(o, "steps\n");
+    fprintf(o, "  steps            %ld (last step %d)\n", s->nsteps, (int)s->last_step);
+    if (s->nmdlt) {
+        fprintf(o, "  mesh deltas      %ld: %lld new nodes, %lld re-wired and %lld added elements\n",
+                s->nmdlt, (long long)s->nnew, (long long)s->nmod, (long long)s->nadd);
+        fprintf(o, "  step flags       detached %ld, pinned %ld, dropped %ld\n", s->flag_count[0],
+                s->flag_count[1], s->flag_count[2]);
+    }
+    if (s->fin.valid)
+        fprintf(o, "  final mesh       %lld nodes, %lld elements (after %ld mesh deltas)\n",
+                (long long)s->fin.nn, (long long)s->fin.ne, s->applied);
+    if (s->nupdt) {
+        double *m = aug_malloc((size_t)s->nupdt * sizeof *m);
+        double med = NAN;
+        if (m) {
+            memcpy(m, s->m_all, (size_t)s->nupdt * sizeof *m);
+            med = aug_median(m, (size_t)s->nupdt);
+            free(m);
+        }
+        fprintf(o, "  updates          %ld UPDT: m median %.6g, max %lld; k total %lld; max m+k %lld\n",
+                s->nupdt, med, (long long)s->m_max, (long long)s->k_sum, (long long)s->mk_max);
+    }
+    if (s->npath) fprintf(o, "  cut paths        %ld pATH, %lld segments\n", s->npath, (long long)s->nseg);
+    if (s->nfeld) {
+        fprintf(o, "  fields           %ld fELD", s->nfeld);
+        if (s->f_step >= 0)
+            fprintf(o, "; last displacement at step %d: %lld nodes%s, max |u| %.6g", (int)s->f_step,
+                    (long long)s->f_count, s->f_indexed ? " (indexed)" : "", s->f_max);
+        fputc('\n', o);
+    }
+    if (s->nqual) {
+        fprintf(o, "  refine quality   %ld qUAl; last (step %d, %s):", s->nqual, (int)s->qual_step,
+                s->qual.tag);
+        for (int k = 0; k < s->qual.n; k++) fprintf(o, " %s %.6g", s->qual.key[k], s->qual.val[k]);
+        fputc('\n', o);
+    }
+    if (s->nmode) fprintf(o, "  modes            %ld MODE records\n", s->nmode);
+}
+
+int aug_summary_print(FILE *o, aug_summary *s, const char *name, aug_err *e)
+{
+    aug_err_clear(e);
+    if (!s->init.valid && take_snap(s, &s->init)) goto nomem;
+    if (s->applied && take_snap(s, &s->fin)) goto nomem;
+    fprintf(o, "stream %s%s\n", name, s->complete ? "" : " (INCOMPLETE: reading stopped at an error)");
+    fprintf(o, "  producer         %s (format %d.%u)\n", s->producer, AUG_VERSION_MAJOR,
+            (unsigned)s->minor);
+    print_prov(o, s);
+    fprintf(o, "records (%ld; %llu payload bytes, %llu bytes on the wire with the signature)\n",
+            s->nrec, (unsigned long long)s->raw, (unsigned long long)s->wire);
+    fprintf(o, "  %-6s %10s %16s %16s\n", "type", "count", "raw_bytes", "wire_bytes");
+    for (int i = 0; i <= MAXTYPES; i++) {
+        const tcount *c = &s->tc[i];
+        if (i < s->ntc || (i == MAXTYPES && c->count))
+            fprintf(o, "  %-6s %10ld %16llu %16llu\n", c->type, c->count,
+                    (unsigned long long)c->raw, (unsigned long long)c->wire);
+    }
+    if (s->init.valid) {
+        print_mesh(o, s);
+        print_scene(o, s);
+        print_quality(o, s, &s->init, s->applied ? "initial" : "whole");
+    } else if (s->mesh.have) {
+        fprintf(o, "mesh               incomplete (NODE, MATL and ELEM needed)\n");
+    }
+    print_matrices(o, s);
+    print_steps(o, s);
+    if (print_methods(o, s)) goto nomem;
+    if (s->fin.valid) print_quality(o, s, &s->fin, "final");
+    if (ferror(o)) return aug_err_set(e, AUG_EIO, -1, "", "write failed");
+    return 0;
+nomem:
+    return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+}

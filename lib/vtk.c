@@ -1,0 +1,101 @@
+/* VTK XML UnstructuredGrid (.vtu, ASCII) export of a mesh and a displacement field. */
+#include <math.h>
+#include <string.h>
+#include "aug_stats.h"
+
+#define VTK_TRIANGLE 5
+#define VTK_TETRA 10
+
+/* ASCII readers cannot parse "nan"/"inf": undefined qualities are written as -1;
+   8 values per line */
+static void put_q(FILE *o, int64_t i, double v)
+{
+    fprintf(o, "%s%.17g", i % 8 ? " " : i ? "\n" : "", isfinite(v) ? v : -1.0);
+}
+
+static void open_array(FILE *o, const char *type, const char *name, int ncomp)
+{
+    fprintf(o, "        <DataArray type=\"%s\" Name=\"%s\"", type, name);
+    if (ncomp > 1) fprintf(o, " NumberOfComponents=\"%d\"", ncomp);
+    fprintf(o, " format=\"ascii\">\n");
+}
+
+static void close_array(FILE *o) { fprintf(o, "\n        </DataArray>\n"); }
+
+/* one line per node / cell keeps the file diffable and the lines short */
+int aug_vtk_write(FILE *o, const aug_mesh *m, const double *u, const unsigned char *mask,
+                  aug_err *e)
+{
+    aug_err_clear(e);
+    if (m->nv != 3 && m->nv != 4) return aug_err_set(e, AUG_EUSAGE, -1, "", "mesh has no elements");
+    int dim = m->dim, nv = m->nv;
+    fprintf(o, "<?xml version=\"1.0\"?>\n");
+    fprintf(o, "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
+    fprintf(o, "  <UnstructuredGrid>\n");
+    fprintf(o, "    <Piece NumberOfPoints=\"%lld\" NumberOfCells=\"%lld\">\n", (long long)m->nn,
+            (long long)m->ne);
+    if (u) {
+        fprintf(o, "      <PointData Vectors=\"displacement\" Scalars=\"displacement_mask\">\n");
+        open_array(o, "Float64", "displacement", 3);
+        for (int64_t i = 0; i < m->nn; i++) {
+            if (i) fputc('\n', o);
+            for (int d = 0; d < 3; d++) fprintf(o, "%s%.17g", d ? " " : "", d < dim ? u[i * dim + d] : 0.0);
+        }
+        close_array(o);
+        open_array(o, "UInt8", "displacement_mask", 1);
+        for (int64_t i = 0; i < m->nn; i++)
+            fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", mask ? (int)mask[i] : 1);
+        close_array(o);
+        fprintf(o, "      </PointData>\n");
+    }
+    fprintf(o, "      <CellData Scalars=\"material\">\n");
+    open_array(o, "Int32", "material", 1);
+    for (int64_t i = 0; i < m->ne; i++) fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", (int)m->mat[i]);
+    close_array(o);
+    open_array(o, "Int32", "material_id", 1);
+    for (int64_t i = 0; i < m->ne; i++)
+        fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", (int)m->mats[m->mat[i]].id);
+    close_array(o);
+    open_array(o, "Float64", "aspect_ratio", 1);
+    for (int64_t i = 0; i < m->ne; i++) {
+        aug_quality q;
+        aug_elem_quality(m, i, &q);
+        put_q(o, i, q.aspect);
+    }
+    close_array(o);
+    open_array(o, "Float64", "min_angle", 1); /* tet4: min dihedral angle */
+    for (int64_t i = 0; i < m->ne; i++) {
+        aug_quality q;
+        aug_elem_quality(m, i, &q);
+        put_q(o, i, q.min_angle);
+    }
+    close_array(o);
+    fprintf(o, "      </CellData>\n");
+    fprintf(o, "      <Points>\n");
+    open_array(o, "Float64", "points", 3);
+    for (int64_t i = 0; i < m->nn; i++) {
+        if (i) fputc('\n', o);
+        for (int d = 0; d < 3; d++) fprintf(o, "%s%.17g", d ? " " : "", d < dim ? m->x[i * dim + d] : 0.0);
+    }
+    close_array(o);
+    fprintf(o, "      </Points>\n");
+    fprintf(o, "      <Cells>\n");
+    open_array(o, "Int64", "connectivity", 1);
+    for (int64_t i = 0; i < m->ne; i++) {
+        if (i) fputc('\n', o);
+        for (int j = 0; j < nv; j++) fprintf(o, "%s%d", j ? " " : "", (int)m->conn[i * nv + j]);
+    }
+    close_array(o);
+    open_array(o, "Int64", "offsets", 1);
+    for (int64_t i = 0; i < m->ne; i++)
+        fprintf(o, "%s%lld", i % 16 ? " " : i ? "\n" : "", (long long)((i + 1) * nv));
+    close_array(o);
+    open_array(o, "UInt8", "types", 1);
+    for (int64_t i = 0; i < m->ne; i++)
+        fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", nv == 4 ? VTK_TETRA : VTK_TRIANGLE);
+    close_array(o);
+    fprintf(o, "      </Cells>\n");
+    fprintf(o, "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+    if (ferror(o)) return aug_err_set(e, AUG_EIO, -1, "", "write failed");
+    return 0;
+}

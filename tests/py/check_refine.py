@@ -1,0 +1,211 @@
+"""check_refine.py IN OUT [--max-aspect A]
+Checks refine's output OUT against its input IN, both read independently of the
+C library (augstream.py): every record that is not per-step is passed through
+unchanged and in order; per step, MDLT/BDLT/UPDT are rewritten, everything else
+is kept in order, and one qUAl and one tIMe with tag "refine" follow. The folded
+MDLTs, applied to the mesh, give a conformal mesh (each edge or face in at most
+two elements, with opposite orientations), every element positive, the total
+area (volume) unchanged; in 2-D every open edge lies on the outer boundary of the
+original mesh or on a pATH segment, every pATH segment is a union of mesh edges
+on both sides, and no triangle exceeds the aspect bound except in a corner too
+sharp for any triangle. UPDT k = dim * new nodes. Prints a summary; exit 1 on
+the first failure."""
+import math
+import os
+import struct
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import augstream  # noqa: E402
+
+
+def fail(msg):
+    print("check_refine: %s: %s" % (sys.argv[2], msg))
+    sys.exit(1)
+
+
+def kv(p):
+    tag = p[:16].split(b"\0", 1)[0].decode()
+    n, = struct.unpack_from("<i", p, 16)
+    vals = {}
+    for i in range(n):
+        o = 24 + 24 * i
+        vals[p[o:o + 16].split(b"\0", 1)[0].decode()] = struct.unpack_from("<d", p, o + 16)[0]
+    return tag, vals
+
+
+def mdlt(p, dim, nv):
+    pos = 0
+    nnew, = struct.unpack_from("<q", p, pos)
+    pos += 8
+    parent, pos = augstream.arr("i", p, pos, nnew)
+    x, pos = augstream.arr("d", p, pos, nnew * dim)
+    nmod, = struct.unpack_from("<q", p, pos)
+    pos += 8
+    elem, pos = augstream.arr("i", p, pos, nmod)
+    conn, pos = augstream.arr("i", p, pos, nmod * nv)
+    nadd, = struct.unpack_from("<q", p, pos)
+    pos += 8
+    cadd, pos = augstream.arr("i", p, pos, nadd * nv)
+    madd, pos = augstream.arr("i", p, pos, nadd)
+    pos += 8
+    if pos != len(p):
+        fail("MDLT payload size")
+    return parent, x, elem, conn, cadd, madd
+
+
+def main():
+    a = sys.argv[1:]
+    bound = 3.0
+    if "--max-aspect" in a:
+        bound = float(a[a.index("--max-aspect") + 1])
+    rin = augstream.records(open(a[0], "rb").read())
+    rout = augstream.records(open(a[1], "rb").read())
+    # 1. records that are not per-step: the same, in order (refine adds one pROv)
+    nin = [r for r in rin if r[2] < 0 and r[0] not in ("TAIL", "HEAD")]
+    nout = [r for r in rout if r[2] < 0 and r[0] not in ("TAIL", "HEAD")]
+    provs = [i for i, r in enumerate(nout) if r[0] == "pROv" and r[3].split(b"\n")[1].split(b" ")[0].endswith(b"refine")]
+    if len(provs) != 1:
+        fail("expected one pROv of refine, found %d" % len(provs))
+    del nout[provs[0]]
+    if nin != nout:
+        fail("records that are not per-step differ")
+    # 2. per step: the same records in order, MDLT/BDLT/UPDT rewritten, + qUAl, tIMe
+    steps = sorted({r[2] for r in rin if r[2] >= 0})
+    qual = {}
+    for s in steps:
+        si = [r for r in rin if r[2] == s]
+        so = [r for r in rout if r[2] == s]
+        has_md = any(r[0] == "MDLT" for r in si)
+        extra = [r for r in so if r[0] in ("qUAl", "tIMe") and kv(r[3])[0] == "refine"]
+        if has_md and len(extra) != 2:
+            fail("step %d: %d qUAl/tIMe records of refine" % (s, len(extra)))
+        so = [r for r in so if r not in extra]
+        ti = [r[0] for r in si if not (has_md and r[0] == "fELD")]
+        if ti != [r[0] for r in so]:
+            fail("step %d: record order %s -> %s" % (s, ti, [r[0] for r in so]))
+        for r, q in zip([r for r in si if not (has_md and r[0] == "fELD")], so):
+            if r[0] not in ("MDLT", "BDLT", "UPDT") and r != q:
+                fail("step %d: %s changed" % (s, r[0]))
+        for r in extra:
+            if r[0] == "qUAl":
+                qual[s] = kv(r[3])[1]
+    # 3. the refined mesh
+    m = augstream.mesh(rout)
+    dim, nv = m["dim"], m["nv"]
+    x, conn = list(m["x"]), list(m["conn"])
+    area0 = sum(augstream.measure({"x": x, "conn": conn, "nv": nv}, e) for e in range(len(conn)))
+    lo = [min(p[k] for p in x) for k in range(dim)]
+    hi = [max(p[k] for p in x) for k in range(dim)]
+    segs = []
+    for typ, fl, s, p in rout:
+        if typ == "pATH":
+            d, _, n = struct.unpack_from("<iiq", p, 0)
+            v, _ = augstream.arr("d", p, 16, n * 2 * d)
+            if d == 2:
+                segs += [tuple(v[4 * i:4 * i + 4]) for i in range(n)]
+        elif typ == "MDLT":
+            parent, xn, elem, c, cadd, madd = mdlt(p, dim, nv)
+            nn = len(x)
+            for i, par in enumerate(parent):
+                if not (0 <= par < nn + i):
+                    fail("step %d: parent %d of new node %d" % (s, par, i))
+            x += [tuple(xn[i * dim:(i + 1) * dim]) for i in range(len(parent))]
+            for k, e in enumerate(elem):
+                conn[e] = tuple(c[k * nv:(k + 1) * nv])
+            conn += [tuple(cadd[k * nv:(k + 1) * nv]) for k in range(len(madd))]
+            up = [r for r in rout if r[0] == "UPDT" and r[2] == s]
+            if up:
+                mm, kk = struct.unpack_from("<ii", up[0][3], 0)
+                if kk != dim * len(parent):
+                    fail("step %d: UPDT k = %d for %d new nodes" % (s, kk, len(parent)))
+    mesh = {"x": x, "conn": conn, "nv": nv}
+    vols = [augstream.measure(mesh, e) for e in range(len(conn))]
+    if min(vols) <= 0:
+        fail("element %d has measure %g" % (vols.index(min(vols)), min(vols)))
+    if abs(sum(vols) - area0) > 1e-10 * area0:
+        fail("total measure %.17g, was %.17g" % (sum(vols), area0))
+    faces = {}
+    for e, c in enumerate(conn):
+        fs = [(c[i], c[(i + 1) % 3]) for i in range(3)] if nv == 3 else \
+             [(c[1], c[2], c[3]), (c[0], c[3], c[2]), (c[0], c[1], c[3]), (c[0], c[2], c[1])]
+        for f in fs:
+            key = tuple(sorted(f))
+            if key in faces and len(faces[key]) >= 2:
+                fail("face %s in three elements" % (key,))
+            faces.setdefault(key, []).append((e, f))
+    for key, uses in faces.items():
+        if len(uses) == 2:
+            f0, f1 = uses[0][1], uses[1][1]
+            if nv == 3 and f0 != (f1[1], f1[0]):
+                fail("edge %s has equal orientations" % (key,))
+    if nv == 4:
+        print("check_refine: %d steps, %d nodes, %d tets, volume %.15g, conformal" % (len(steps), len(x), len(conn), sum(vols)))
+        return
+    # 2-D: open edges on the outer boundary or on a cut segment
+    def on_seg(p, sg, tol=1e-9):
+        ux, uy, vx, vy = sg
+        L = math.hypot(vx - ux, vy - uy)
+        d = abs((vx - ux) * (p[1] - uy) - (vy - uy) * (p[0] - ux)) / L
+        t = ((p[0] - ux) * (vx - ux) + (p[1] - uy) * (vy - uy)) / (L * L)
+        return d <= tol * max(1.0, L) and -tol <= t <= 1 + tol, t
+    cell = 0.02
+    grid = {}
+    for i, sg in enumerate(segs):
+        for gx in range(int(min(sg[0], sg[2]) / cell) - 1, int(max(sg[0], sg[2]) / cell) + 2):
+            for gy in range(int(min(sg[1], sg[3]) / cell) - 1, int(max(sg[1], sg[3]) / cell) + 2):
+                grid.setdefault((gx, gy), []).append(i)
+    on_edges = {}
+    for key, uses in faces.items():
+        pa, pb = x[key[0]], x[key[1]]
+        cand = set(grid.get((int(pa[0] / cell), int(pa[1] / cell)), []))
+        for i in cand:
+            oa, ta = on_seg(pa, segs[i])
+            ob, tb = on_seg(pb, segs[i])
+            if oa and ob:
+                for e, f in uses:
+                    third = [v for v in conn[e] if v not in key][0]
+                    sg = segs[i]
+                    side = (sg[2] - sg[0]) * (x[third][1] - sg[1]) - (sg[3] - sg[1]) * (x[third][0] - sg[0]) > 0
+                    on_edges.setdefault((i, side), []).append((min(ta, tb), max(ta, tb)))
+        if len(uses) == 1:
+            outer = any(pa[k] == pb[k] and pa[k] in (lo[k], hi[k]) for k in range(2))
+            if not outer and not any(on_seg(pa, segs[i])[0] and on_seg(pb, segs[i])[0] for i in cand):
+                fail("open edge %s (%s - %s) neither on the boundary nor on the cut" % (key, pa, pb))
+    for i in range(len(segs)):
+        for side in (False, True):
+            reach = 0.0
+            for t0, t1 in sorted(on_edges.get((i, side), [])):
+                if t0 <= reach + 1e-9:
+                    reach = max(reach, t1)
+            if reach < 1 - 1e-9:
+                fail("pATH segment %d %s is not covered by edges on one side (to %.3g)" % (i, segs[i], reach))
+    # aspect bound, except corners between two open edges sharper than 2 asin(1/2A)
+    thmin = 2 * math.asin(1 / (2 * bound))
+    worst, sharp = 0.0, 0
+    for e, c in enumerate(conn):
+        P = [x[v] for v in c]
+        L = [math.dist(P[i], P[(i + 1) % 3]) for i in range(3)]
+        asp = max(L) / min(L)
+        if asp <= bound * (1 + 1e-9):
+            worst = max(worst, asp)
+            continue
+        corner = False
+        for i in range(3):
+            u = [P[(i + 1) % 3][k] - P[i][k] for k in range(2)]
+            w = [P[(i + 2) % 3][k] - P[i][k] for k in range(2)]
+            ang = math.atan2(abs(u[0] * w[1] - u[1] * w[0]), u[0] * w[0] + u[1] * w[1])
+            e1 = len(faces[tuple(sorted((c[i], c[(i + 1) % 3])))]) == 1
+            e2 = len(faces[tuple(sorted((c[i], c[(i + 2) % 3])))]) == 1
+            corner = corner or (ang < thmin and e1 and e2)
+        if not corner:
+            fail("triangle %d has aspect %.4g > %g" % (e, asp, bound))
+        sharp += 1
+    for s, q in qual.items():
+        if q["aspect_max"] > bound * (1 + 1e-9) and not sharp:
+            fail("step %d: qUAl aspect_max %g" % (s, q["aspect_max"]))
+    print("check_refine: %d steps, %d nodes, %d triangles, area %.15g, %d cut segments, max aspect %.4f, "
+          "%d triangles in sharp corners" % (len(steps), len(x), len(conn), sum(vols), len(segs), worst, sharp))
+
+
+main()

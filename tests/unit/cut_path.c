@@ -1,0 +1,372 @@
+/* Path cuts on tri3 meshes (thesis ch. 3.1, 3.6): random polylines, cubic and
+   rational Bezier paths in split and snap mode, and the degenerate cases (through
+   nodes, along edges, tangent, partial, cross, overlapping, cut-out), with the
+   invariants of every step: K_t and f_t from scratch == the accumulated updates,
+   area, no sliver, conformity (angle sums), realised segments are mesh edges. */
+#include "t.h"
+#include "cut_check.h"
+
+static cholmod_common cm;
+
+static int parse_text(const char *text, aug_path *p, aug_err *e)
+{
+    FILE *f = fmemopen((void *)text, strlen(text), "r");
+    int rc = aug_path_parse(f, "path", p, e);
+    fclose(f);
+    return rc;
+}
+
+typedef struct res2 {
+    int steps, error_step, flags;
+    double seglen, min_eig;
+    int64_t nseg;
+} res2;
+
+static int cmp_edge4(const void *a, const void *b)
+{
+    const double *x = a, *y = b;
+    for (int k = 0; k < 4; k++)
+        if (x[k] != y[k]) return x[k] < y[k] ? -1 : 1;
+    return 0;
+}
+
+static void canon(double *q)
+{
+    if (q[0] > q[2] || (q[0] == q[2] && q[1] > q[3])) {
+        double t0 = q[0], t1 = q[1];
+        q[0] = q[2];
+        q[1] = q[3];
+        q[2] = t0;
+        q[3] = t1;
+    }
+}
+
+/* every realised segment is an edge of the mesh (same end coordinates) */
+static int segs_are_edges(const aug_mesh *m, const double *seg, int64_t nseg)
+{
+    int64_t ne = m->ne * 3;
+    double *E = malloc((size_t)(ne * 4) * sizeof *E);
+    for (int64_t e = 0; e < m->ne; e++)
+        for (int k = 0; k < 3; k++) {
+            double *q = E + (e * 3 + k) * 4;
+            memcpy(q, m->x + m->conn[e * 3 + k] * 2, 2 * sizeof *q);
+            memcpy(q + 2, m->x + m->conn[e * 3 + (k + 1) % 3] * 2, 2 * sizeof *q);
+            canon(q);
+        }
+    qsort(E, (size_t)ne, 4 * sizeof *E, cmp_edge4);
+    int ok = 1;
+    for (int64_t i = 0; i < nseg && ok; i++) {
+        double q[4];
+        memcpy(q, seg + i * 4, sizeof q);
+        canon(q);
+        ok = bsearch(q, E, (size_t)ne, 4 * sizeof *E, cmp_edge4) != NULL;
+    }
+    free(E);
+    return ok;
+}
+
+static int run_path(aug_mesh *m, const char *text, int mode, int steps, int policy, double pull,
+                    res2 *res)
+{
+    aug_err e;
+    aug_path path;
+    cc_track T;
+    aug_cutter C;
+    aug_path_cut pc;
+    memset(res, 0, sizeof *res);
+    if (parse_text(text, &path, &e)) {
+        T_CHECK(0, "parse: %s", e.msg);
+        return -1;
+    }
+    if (cc_init(&T, m, &cm)) {
+        T_CHECK(0, "%s", T.why);
+        aug_path_free(&path);
+        return -1;
+    }
+    aug_cutter_init(&C, m, T.nn0, T.map0, T.nfree0, &e);
+    C.policy = policy;
+    C.pull = pull;
+    aug_path_cut_init(&pc, &path, mode, 0.05);
+    for (int step = 1; step <= steps && !t_cur_failed; step++) {
+        aug_cut_step S;
+        aug_cut_step_init(&S, step);
+        double s_to = path.total * step / steps;
+        if (aug_path_step(&pc, &C.ed, s_to, &S.seg, &S.nseg, &e) || aug_cutter_apply(&C, &S, &e)) {
+            T_CHECK(0, "step %d: %s", step, e.msg);
+            aug_cut_step_free(&S);
+            break;
+        }
+        int urc = aug_cutter_update(&C, &S, &e);
+        if (urc == AUG_ESINGULAR) {
+            cc_track U;
+            memset(&U, 0, sizeof U);
+            U.n = U.cap = aug_cut_order(m, T.nn0, T.nfree0);
+            U.K = calloc((size_t)(U.n * U.n), sizeof *U.K);
+            cholmod_sparse *A = aug_assemble_cut(m, T.nn0, T.map0, T.nfree0, &cm, &e);
+            cc_dense(A, U.K, U.n);
+            cholmod_free_sparse(&A, &cm);
+            res->min_eig = cc_min_eig_ratio(&U);
+            free(U.K);
+            res->error_step = step;
+            aug_cut_step_free(&S);
+            break;
+        }
+        if (urc) {
+            T_CHECK(0, "step %d: %s", step, e.msg);
+            aug_cut_step_free(&S);
+            break;
+        }
+        res->flags |= S.d.flags;
+        T_CHECK(S.u.k == 2 * S.d.nnew, "step %d: k = %d for %lld new nodes", step, S.u.k,
+                (long long)S.d.nnew);
+        if (cc_apply(&T, &S.u) || cc_check(&T, m, &cm, step) || cc_check_angles(&T, m, step)) {
+            T_CHECK(0, "%s", T.why);
+            aug_cut_step_free(&S);
+            break;
+        }
+        cc_faces ft = cc_count_faces(m);
+        T_CHECK(ft.more == 0, "step %d: an edge in 3 or more triangles", step);
+        T_CHECK(segs_are_edges(m, S.seg, S.nseg), "step %d: a realised segment is no mesh edge", step);
+        for (int64_t i = 0; i < S.nseg; i++)
+            res->seglen += hypot(S.seg[i * 4 + 2] - S.seg[i * 4], S.seg[i * 4 + 3] - S.seg[i * 4 + 1]);
+        res->nseg += S.nseg;
+        res->steps = step;
+        aug_cut_step_free(&S);
+    }
+    aug_path_cut_free(&pc);
+    aug_cutter_free(&C);
+    cc_free(&T);
+    aug_path_free(&path);
+    return t_cur_failed ? -1 : 0;
+}
+
+/* nodes of m at exactly (x, y) */
+static int nodes_at(const aug_mesh *m, double x, double y, double tol)
+{
+    int n = 0;
+    for (int64_t i = 0; i < m->nn; i++) n += hypot(m->x[i * 2] - x, m->x[i * 2 + 1] - y) <= tol;
+    return n;
+}
+
+static void parse_errors(void)
+{
+    static const char *bad[] = {"line 0 0 1\n", "bezier 0 0 1 1 2 2 3\n", "arc 0 0 1 0 1 1 0\n",
+                                "circle 0 0 -1\n", "spline 0 0 1 1\n", "line 0 0 1 x\n",
+                                "# nothing\n", "line 0 0 0 0\n", "polyline 0 0 1 1 2\n",
+                                "line 0 0 1 nan\n"};
+    static const int badline[] = {1, 1, 1, 1, 1, 1, 0, 1, 1, 1};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        aug_path p;
+        aug_err e;
+        int rc = parse_text(bad[i], &p, &e);
+        char want[32];
+        snprintf(want, sizeof want, "path:%d:", badline[i]);
+        T_CHECK(rc == AUG_EDATA && strncmp(e.msg, want, strlen(want)) == 0,
+                "'%s' gave %d '%s'", bad[i], rc, e.msg);
+    }
+    aug_path p;
+    aug_err e;
+    T_CHECK(parse_text("# a comment\n\nline 0 0 1 0\nbezier 1 0 2 0 2 1 3 1 # tail\n"
+                       "polyline 5 5 6 6 7 5\ncircle 0 0 1\narc 1 0 1 1 0 1 0.7071067811865476\n",
+                       &p, &e) == 0, "%s", e.msg);
+    T_CHECK(p.n == 2 + 2 + 4 + 1, "%d curves", p.n);
+    int strokes = 0;
+    for (int i = 0; i < p.n; i++) strokes += p.c[i].newstroke;
+    T_CHECK(strokes == 3, "%d strokes", strokes); /* line+bezier, polyline, circle+arc */
+    /* lengths: line 1; quarter arcs of the unit circle pi/2 */
+    T_CHECK(fabs(p.s0[1] - 1) < 1e-12, "line length %g", p.s0[1]);
+    T_CHECK(fabs(p.s0[8] - p.s0[4] - 2 * M_PI) < 1e-4, "circle length %g", p.s0[8] - p.s0[4]);
+    aug_path_free(&p);
+}
+
+/* roots of curve/line meetings: on the line, and as many as sign changes */
+static void curve_roots(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 17);
+    int checked = 0;
+    for (int it = 0; it < 3000 && !t_cur_failed; it++) {
+        aug_curve c;
+        memset(&c, 0, sizeof c);
+        c.kind = 1 + it % 3;
+        for (int i = 0; i < 4; i++)
+            for (int k = 0; k < 2; k++) c.p[i][k] = gsl_rng_uniform(r);
+        c.w = 0.2 + 2 * gsl_rng_uniform(r);
+        double a[2] = {gsl_rng_uniform(r), gsl_rng_uniform(r)}, b[2] = {gsl_rng_uniform(r), gsl_rng_uniform(r)};
+        double t[3];
+        int n = aug_curve_line_roots(&c, a, b, 0, 1, t);
+        double nx = -(b[1] - a[1]), ny = b[0] - a[0];
+        for (int i = 0; i < n; i++) {
+            double q[2];
+            aug_curve_eval(&c, t[i], q);
+            double g = nx * (q[0] - a[0]) + ny * (q[1] - a[1]);
+            T_CHECK(fabs(g) < 1e-10, "kind %d: root %g off the line by %g", c.kind, t[i], g);
+        }
+        int changes = 0;
+        double prev = 0;
+        for (int k = 0; k <= 4000; k++) {
+            double q[2];
+            aug_curve_eval(&c, k / 4000.0, q);
+            double g = nx * (q[0] - a[0]) + ny * (q[1] - a[1]);
+            if (k > 0 && (g > 0) != (prev > 0)) changes++;
+            prev = g;
+        }
+        /* tangencies aside, each sign change is a root and each root a change */
+        if (n >= 0 && n == changes) checked++;
+        else T_CHECK(n >= changes, "kind %d: %d roots, %d sign changes", c.kind, n, changes);
+    }
+    T_CHECK(checked > 2900, "only %d of 3000 root counts matched", checked);
+    /* the quarter arc with w = cos 45 deg is on the circle */
+    aug_curve q = {AUG_CURVE_RQUAD, {{2, 1}, {2, 2}, {1, 2}}, sqrt(0.5), 1, 0};
+    for (int k = 0; k <= 16; k++) {
+        double p[2];
+        aug_curve_eval(&q, k / 16.0, p);
+        T_CHECK(fabs(hypot(p[0] - 1, p[1] - 1) - 1) < 1e-14, "arc point off the circle");
+    }
+    gsl_rng_free(r);
+}
+
+static void random_text(gsl_rng *r, char *buf, size_t n)
+{
+    int nc = 1 + (int)gsl_rng_uniform_int(r, 3);
+    size_t off = 0;
+    double x0 = -0.2 + 1.4 * gsl_rng_uniform(r), y0 = -0.2 + 1.4 * gsl_rng_uniform(r);
+    for (int i = 0; i < nc; i++) {
+        double P[4][2];
+        P[0][0] = x0;
+        P[0][1] = y0;
+        for (int k = 1; k < 4; k++) {
+            P[k][0] = -0.2 + 1.4 * gsl_rng_uniform(r);
+            P[k][1] = -0.2 + 1.4 * gsl_rng_uniform(r);
+        }
+        int kind = (int)gsl_rng_uniform_int(r, 3);
+        if (kind == 0)
+            off += snprintf(buf + off, n - off, "line %.6f %.6f %.6f %.6f\n", P[0][0], P[0][1], P[1][0], P[1][1]);
+        else if (kind == 1)
+            off += snprintf(buf + off, n - off, "bezier %.6f %.6f %.6f %.6f %.6f %.6f %.6f %.6f\n", P[0][0],
+                            P[0][1], P[1][0], P[1][1], P[2][0], P[2][1], P[3][0], P[3][1]);
+        else
+            off += snprintf(buf + off, n - off, "arc %.6f %.6f %.6f %.6f %.6f %.6f %.3f\n", P[0][0], P[0][1],
+                            P[1][0], P[1][1], P[2][0], P[2][1], 0.3 + gsl_rng_uniform(r));
+        /* continue the stroke or start a new one */
+        int last = kind == 0 ? 1 : (kind == 1 ? 3 : 2);
+        if (gsl_rng_uniform(r) < 0.6) {
+            x0 = P[last][0];
+            y0 = P[last][1];
+        } else {
+            x0 = -0.2 + 1.4 * gsl_rng_uniform(r);
+            y0 = -0.2 + 1.4 * gsl_rng_uniform(r);
+        }
+    }
+}
+
+static void random_paths(int mode)
+{
+    for (unsigned long seed = 1; seed <= 200 && !t_cur_failed; seed++) {
+        gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+        gsl_rng_set(r, seed + 100 * mode);
+        aug_mesh m;
+        cc_square(&m, 8, 8, 1, 1, r, seed % 3 == 0 ? 0.01 : 0.0);
+        char text[1024];
+        random_text(r, text, sizeof text);
+        res2 res;
+        int steps = 3 + (int)gsl_rng_uniform_int(r, 8);
+        run_path(&m, text, mode, steps, seed % 2 ? AUG_DETACH_PIN : AUG_DETACH_DROP,
+                 seed % 4 == 1 ? 0.05 : 0.0, &res);
+        if (t_cur_failed) fprintf(stderr, "seed %lu mode %d path:\n%s", seed, mode, text);
+        aug_mesh_free(&m);
+        gsl_rng_free(r);
+    }
+}
+
+static void split_random(void) { random_paths(AUG_PATH_SPLIT); }
+static void snap_random(void) { random_paths(AUG_PATH_SNAP); }
+
+typedef struct dcase {
+    const char *name, *text;
+    double len;              /* length of the path inside the square (split mode), 0: skip */
+} dcase;
+
+static void degenerate(void)
+{
+    static const dcase cs[] = {
+        {"along a grid line", "line 0 0.5 1 0.5\n", 1.0},
+        {"along diagonal edges", "line -0.1 -0.1 1.1 1.1\n", M_SQRT2},
+        {"through nodes across edges", "line 0 0.25 1 0.75\n", 0},
+        {"partial inside", "line 0.3 0.3 0.6 0.45\n", 0.33541019662496846},
+        {"ends on a node", "line 0.05 0.3 0.5 0.5\n", 0},
+        {"ends mid-edge", "line 0.05 0.3 0.5625 0.5\n", 0},
+        {"starts on a boundary node", "line 0 0.375 0.5 0.45\n", 0},
+        {"cross", "line 0.1 0.55 0.9 0.55\nline 0.55 0.1 0.55 0.9\n", 1.6},
+        {"overlap and re-cut",
+         "line 0.05 0.4 0.7 0.4\nline 0.3 0.4 0.95 0.4\nline 0.2 0.1 0.2 0.9\n", 0},
+        {"tangent bezier", "bezier 0.1 0.3 0.3 0.5666666666666667 0.5 0.5666666666666667 0.8 0.3\n", 0},
+        {"tangent circle", "circle 0.5 0.5 0.3125\n", 0},
+        {"zigzag polyline", "polyline 0.02 0.02 0.98 0.1 0.02 0.2 0.98 0.33 0.5 0.5\n", 0},
+    };
+    for (size_t i = 0; i < sizeof cs / sizeof cs[0] && !t_cur_failed; i++)
+        for (int mode = 0; mode < 2 && !t_cur_failed; mode++)
+            for (int steps = 1; steps <= 7 && !t_cur_failed; steps += 3) {
+                aug_mesh m;
+                cc_square(&m, 8, 8, 1, 1, NULL, 0);
+                res2 res;
+                run_path(&m, cs[i].text, mode, steps, AUG_DETACH_PIN, 0.0, &res);
+                if (t_cur_failed) {
+                    fprintf(stderr, "case '%s' mode %d steps %d\n", cs[i].name, mode, steps);
+                    aug_mesh_free(&m);
+                    break;
+                }
+                if (mode == AUG_PATH_SPLIT && cs[i].len > 0 && steps == 1)
+                    T_CHECK(fabs(res.seglen - cs[i].len) < 1e-9, "'%s' steps %d: segments %.15g long, want %.15g",
+                            cs[i].name, steps, res.seglen, cs[i].len);
+                else if (mode == AUG_PATH_SPLIT && cs[i].len > 0) /* snapped step ends */
+                    T_CHECK(fabs(res.seglen - cs[i].len) < 0.01 * cs[i].len, "'%s' steps %d: segments %.15g long, want %.15g",
+                            cs[i].name, steps, res.seglen, cs[i].len);
+                if (mode == AUG_PATH_SPLIT && i == 3) {
+                    /* a partial cut: both tips stay single nodes, the opening between has two */
+                    T_CHECK(nodes_at(&m, 0.3, 0.3, 1e-12) == 1 && nodes_at(&m, 0.6, 0.45, 1e-12) == 1,
+                            "partial cut: tips duplicated");
+                }
+                if (mode == AUG_PATH_SPLIT && i == 7)
+                    T_CHECK(nodes_at(&m, 0.55, 0.55, 1e-12) == 4, "cross: %d nodes at the crossing",
+                            nodes_at(&m, 0.55, 0.55, 1e-12));
+                if (i == 10) T_CHECK(res.flags & AUG_STEP_PINNED, "circle: disc not pinned");
+                aug_mesh_free(&m);
+            }
+}
+
+/* a circle punched out: under --detached error the closing step is reported,
+   and K_t of that mesh is singular (smallest eigenvalue ~ 0) */
+static void cut_out(void)
+{
+    for (int mode = 0; mode < 2 && !t_cur_failed; mode++) {
+        aug_mesh m;
+        cc_square(&m, 8, 8, 1, 1, NULL, 0);
+        res2 res;
+        run_path(&m, "circle 0.55 0.5 0.3\n", mode, 5, AUG_DETACH_ERROR, 0.0, &res);
+        T_CHECK(res.error_step == 5, "mode %d: error at step %d", mode, res.error_step);
+        T_CHECK(res.min_eig < 1e-13, "mode %d: reported, but K_t is regular (%g)", mode, res.min_eig);
+        aug_mesh_free(&m);
+    }
+    for (int policy = 1; policy < 3 && !t_cur_failed; policy++) {
+        aug_mesh m;
+        cc_square(&m, 8, 8, 1, 1, NULL, 0);
+        res2 res;
+        run_path(&m, "circle 0.55 0.5 0.3\nline 0.3 0.5 0.8 0.5\n", AUG_PATH_SPLIT, 6, policy, 0.1, &res);
+        T_CHECK(res.flags & AUG_STEP_DETACHED, "policy %d: flags %d", policy, res.flags);
+        aug_mesh_free(&m);
+    }
+}
+
+int main(void)
+{
+    aug_cholmod_start(&cm);
+    T_RUN(parse_errors);
+    T_RUN(curve_roots);
+    T_RUN(degenerate);
+    T_RUN(split_random);
+    T_RUN(snap_random);
+    T_RUN(cut_out);
+    cholmod_finish(&cm);
+    T_EXIT();
+}

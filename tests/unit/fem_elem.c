@@ -1,0 +1,442 @@
+/* Element and global matrices: symmetry, rigid-body null space, patch test,
+   mass totals, multi-material additivity, assembly against an independent
+   triplet assembly, and the lifted load against the full matrix. */
+#include <lapacke.h>
+#include "t.h"
+#include "fem_mesh.h"
+
+static cholmod_common cm;
+
+/* rigid mode j (translations, then rotations about the axes) at point x */
+static void rigid(int dim, int j, const double *x, double *u)
+{
+    if (dim == 3) {
+        u[0] = u[1] = u[2] = 0;
+        if (j < 3) u[j] = 1;
+        else if (j == 3) u[1] = -x[2], u[2] = x[1];
+        else if (j == 4) u[0] = x[2], u[2] = -x[0];
+        else u[0] = -x[1], u[1] = x[0];
+    } else {
+        u[0] = u[1] = 0;
+        if (j < 2) u[j] = 1;
+        else u[0] = -x[1], u[1] = x[0];
+    }
+}
+
+/* dense eigenvalues of an n x n symmetric (column-major) matrix, ascending */
+static void eig(int n, const double *A, double *w)
+{
+    double *B = malloc((size_t)n * n * sizeof *B);
+    memcpy(B, A, (size_t)n * n * sizeof *B);
+    LAPACKE_dsyev(LAPACK_COL_MAJOR, 'N', 'U', n, B, n, w);
+    free(B);
+}
+
+/* move interior nodes of a structured mesh by up to frac of a cell, deterministically */
+static void distort(aug_mesh *m, double frac, double h)
+{
+    unsigned char *bd = calloc((size_t)m->nn, 1);
+    aug_mesh_boundary_nodes(m, bd);
+    for (int64_t i = 0; i < m->nn; i++)
+        if (!bd[i])
+            for (int c = 0; c < m->dim; c++) m->x[i * m->dim + c] += frac * h * sin(3.7 * i + 1.3 * c + 0.5);
+    free(bd);
+    for (int64_t e = 0; e < m->ne; e++)
+        if (!(aug_elem_measure(m, e) > 0)) abort(); /* the test's own precondition */
+}
+
+static void test_element_symmetry_and_null_space(void)
+{
+    aug_mesh m3, m2;
+    tm_box(&m3, 2, 2, 2, 1.0, 1.3, 0.7, 210.0, 0.27);
+    tm_rect(&m2, 3, 2, 1.0, 0.8, 70.0, 0.33, 0.2);
+    distort(&m3, 0.2, 0.35);
+    distort(&m2, 0.2, 0.3);
+    aug_mesh *ms[2] = {&m3, &m2};
+    for (int q = 0; q < 2; q++) {
+        aug_mesh *m = ms[q];
+        int n = m->dim * m->nv, nr = m->dim == 3 ? 6 : 3;
+        for (int64_t e = 0; e < m->ne; e++) {
+            double K[144], w[12], u[12];
+            aug_elem_stiffness(m, e, K);
+            double kmax = 0, asym = 0;
+            for (int i = 0; i < n * n; i++) kmax = fmax(kmax, fabs(K[i]));
+            for (int i = 0; i < n; i++)
+                for (int j = 0; j < n; j++) asym = fmax(asym, fabs(K[i * n + j] - K[j * n + i]));
+            T_CHECK(asym <= 1e-14 * kmax, "dim %d element %lld: asymmetry %g", m->dim, (long long)e, asym / kmax);
+            /* K r = 0 for each rigid mode */
+            for (int j = 0; j < nr; j++) {
+                for (int a = 0; a < m->nv; a++)
+                    rigid(m->dim, j, m->x + (size_t)m->conn[e * m->nv + a] * m->dim, u + a * m->dim);
+                for (int i = 0; i < n; i++) {
+                    double s = 0;
+                    for (int k = 0; k < n; k++) s += K[k * n + i] * u[k];
+                    T_CHECK(fabs(s) <= 1e-12 * kmax, "dim %d element %lld: K r_%d = %g", m->dim, (long long)e, j, s);
+                }
+            }
+            /* exactly nr zero eigenvalues, the rest positive */
+            eig(n, K, w);
+            int zero = 0;
+            for (int i = 0; i < n; i++) {
+                T_CHECK(w[i] > -1e-12 * w[n - 1], "negative eigenvalue %g", w[i]);
+                zero += fabs(w[i]) <= 1e-10 * w[n - 1];
+            }
+            T_CHECK(zero == nr, "dim %d element %lld: %d zero eigenvalues, expected %d", m->dim, (long long)e, zero, nr);
+        }
+    }
+    aug_mesh_free(&m3);
+    aug_mesh_free(&m2);
+}
+
+/* unconstrained global K: symmetric PSD with a null space of dimension 6 (3-D)
+   / 3 (2-D) spanned by the rigid modes */
+static void global_null_space(aug_mesh *m)
+{
+    int d = m->dim, nr = d == 3 ? 6 : 3;
+    int32_t *map = malloc((size_t)m->nn * d * sizeof *map);
+    int64_t n = aug_dofmap(m, map);
+    aug_err e;
+    cholmod_sparse *K = aug_assemble(m, map, n, AUG_MAT_K, &cm, &e);
+    T_CHECK(K && n == m->nn * d, "assemble: %s", e.msg);
+    if (!K) return;
+    double *D = tm_dense(K), *w = malloc((size_t)n * sizeof *w);
+    eig((int)n, D, w);
+    int zero = 0;
+    for (int64_t i = 0; i < n; i++) zero += fabs(w[i]) <= 1e-10 * w[n - 1];
+    T_CHECK(zero == nr, "%d-D: null space of dimension %d, expected %d", d, zero, nr);
+    T_CHECK(w[0] > -1e-10 * w[n - 1], "%d-D: negative eigenvalue %g", d, w[0]);
+    double *r = malloc((size_t)n * sizeof *r), *Kr = malloc((size_t)n * sizeof *Kr);
+    for (int j = 0; j < nr; j++) {
+        for (int64_t i = 0; i < m->nn; i++) rigid(d, j, m->x + i * d, r + i * d);
+        tm_symv(K, r, Kr);
+        T_CHECK(tm_norm(Kr, n) <= 1e-12 * w[n - 1] * tm_norm(r, n), "%d-D: |K r_%d| = %g", d, j,
+                tm_norm(Kr, n));
+    }
+    free(r);
+    free(Kr);
+    free(D);
+    free(w);
+    free(map);
+    cholmod_free_sparse(&K, &cm);
+}
+
+static void test_global_null_space(void)
+{
+    aug_mesh m;
+    tm_box(&m, 3, 2, 2, 1.5, 1, 1, 3.0, 0.3);
+    distort(&m, 0.15, 0.33);
+    global_null_space(&m);
+    aug_mesh_free(&m);
+    tm_rect(&m, 5, 4, 2, 1.5, 3.0, 0.3, 0.5);
+    distort(&m, 0.15, 0.35);
+    global_null_space(&m);
+    aug_mesh_free(&m);
+}
+
+/* the patch test: u = A x + b prescribed on the boundary, interior nodes of a
+   distorted mesh reproduce it to round-off (no loads) */
+static const double PA[3][3] = {{1e-3, 2e-3, -1.5e-3}, {-0.7e-3, 0.4e-3, 1.1e-3}, {0.9e-3, -1.2e-3, 0.6e-3}};
+static const double Pb[3] = {0.01, -0.02, 0.005};
+static double patch_field3(const double *x, int c)
+{
+    return Pb[c] + PA[c][0] * x[0] + PA[c][1] * x[1] + PA[c][2] * x[2];
+}
+static double patch_field2(const double *x, int c)
+{
+    return Pb[c] + PA[c][0] * x[0] + PA[c][1] * x[1];
+}
+
+static void patch(aug_mesh *m, tm_field fld)
+{
+    int d = m->dim;
+    unsigned char *bd = calloc((size_t)m->nn, 1);
+    aug_mesh_boundary_nodes(m, bd);
+    tm_fix_nodes(m, bd, fld);
+    int32_t *map = malloc((size_t)m->nn * d * sizeof *map);
+    int64_t n = aug_dofmap(m, map);
+    aug_err e;
+    cholmod_sparse *K = aug_assemble(m, map, n, AUG_MAT_K, &cm, &e);
+    double *f = malloc((size_t)n * sizeof *f), *a = malloc((size_t)n * sizeof *a);
+    double *u = malloc((size_t)m->nn * d * sizeof *u);
+    T_CHECK(aug_load_vector(m, map, n, f, &e) == 0, "load: %s", e.msg);
+    aug_factor_options(&cm, AUG_ORDER_AUTO, 0);
+    cholmod_factor *L = aug_analyze(K, &cm, &e);
+    T_CHECK(L && aug_factorize(K, L, m, map, &cm, &e) == 0, "factor: %s", e.msg);
+    double rr;
+    T_CHECK(aug_solve(K, L, f, a, &rr, &cm, &e) == 0, "solve: %s", e.msg);
+    aug_expand_field(m, map, a, u);
+    double err = 0;
+    int64_t interior = 0;
+    for (int64_t i = 0; i < m->nn; i++) {
+        interior += !bd[i];
+        for (int c = 0; c < d; c++) err = fmax(err, fabs(u[i * d + c] - fld(m->x + i * d, c)));
+    }
+    T_CHECK(interior > 0 && err <= 1e-10 * 0.02, "%d-D patch test: max error %g on %lld interior nodes",
+            d, err, (long long)interior);
+    cholmod_free_factor(&L, &cm);
+    cholmod_free_sparse(&K, &cm);
+    free(bd);
+    free(map);
+    free(f);
+    free(a);
+    free(u);
+}
+
+static void test_patch_tet4(void)
+{
+    aug_mesh m;
+    tm_box(&m, 4, 3, 3, 1.0, 0.9, 0.8, 5.0, 0.35);
+    distort(&m, 0.2, 0.25);
+    patch(&m, patch_field3);
+    aug_mesh_free(&m);
+}
+
+static void test_patch_tri3(void)
+{
+    aug_mesh m;
+    tm_rect(&m, 5, 4, 1.0, 0.9, 5.0, 0.35, 0.3);
+    distort(&m, 0.2, 0.2);
+    patch(&m, patch_field2);
+    aug_mesh_free(&m);
+}
+
+/* global symmetric matrix: max |A - A'| relative (upper storage makes this a
+   check of the stored pattern: only i <= j entries, sorted, unique) */
+static void check_upper_sorted(const cholmod_sparse *A, const char *what)
+{
+    const int *Ap = A->p, *Ai = A->i;
+    int ok = A->stype == 1 && A->sorted && A->packed;
+    for (size_t j = 0; j < A->ncol && ok; j++)
+        for (int p = Ap[j]; p < Ap[j + 1]; p++)
+            if (Ai[p] > (int)j || (p > Ap[j] && Ai[p] <= Ai[p - 1])) ok = 0;
+    T_CHECK(ok, "%s: not upper triangular with sorted unique rows", what);
+}
+
+/* consistent and lumped mass: r' M r = rho * volume (* t) for every translation
+   r; lumped M = row sums of consistent M */
+static void test_mass(void)
+{
+    aug_mesh m;
+    tm_box(&m, 3, 2, 2, 1.2, 1, 0.9, 1.0, 0.3);
+    distort(&m, 0.2, 0.3);
+    m.mats[0].rho = 7.8;
+    int32_t *map = malloc((size_t)m.nn * 3 * sizeof *map);
+    int64_t n = aug_dofmap(&m, map);
+    aug_err e;
+    cholmod_sparse *M = aug_assemble(&m, map, n, AUG_MAT_M, &cm, &e);
+    cholmod_sparse *ML = aug_assemble(&m, map, n, AUG_MAT_ML, &cm, &e);
+    check_upper_sorted(M, "M");
+    check_upper_sorted(ML, "ML");
+    double vol = 0;
+    for (int64_t el = 0; el < m.ne; el++) vol += aug_elem_measure(&m, el);
+    double *r = calloc((size_t)n, sizeof *r), *y = malloc((size_t)n * sizeof *y);
+    for (int c = 0; c < 3; c++) {
+        memset(r, 0, (size_t)n * sizeof *r);
+        for (int64_t i = 0; i < m.nn; i++) r[i * 3 + c] = 1;
+        tm_symv(M, r, y);
+        double s = 0, sl = 0;
+        for (int64_t i = 0; i < n; i++) s += r[i] * y[i];
+        tm_symv(ML, r, y);
+        for (int64_t i = 0; i < n; i++) sl += r[i] * y[i];
+        T_CHECK(t_reldiff(s, 7.8 * vol) < 1e-12 && t_reldiff(sl, 7.8 * vol) < 1e-12,
+                "total mass %g / %g, expected %g", s, sl, 7.8 * vol);
+    }
+    /* lumped = row sums of consistent */
+    double *D = tm_dense(M);
+    const double *lx = ML->x;
+    for (int64_t i = 0; i < n; i++) {
+        double rs = 0;
+        for (int64_t j = 0; j < n; j++) rs += D[j * n + i];
+        T_CHECK(t_reldiff(lx[i], rs) < 1e-12, "lumped %g vs row sum %g", lx[i], rs);
+    }
+    /* positive definite: consistent M has positive eigenvalues */
+    double *w = malloc((size_t)n * sizeof *w);
+    eig((int)n, D, w);
+    T_CHECK(w[0] > 0, "consistent M not positive definite: %g", w[0]);
+    free(w);
+    free(D);
+    free(r);
+    free(y);
+    free(map);
+    cholmod_free_sparse(&M, &cm);
+    cholmod_free_sparse(&ML, &cm);
+    aug_mesh_free(&m);
+}
+
+/* copy of m keeping only the elements of material k (same nodes) */
+static void only_material(const aug_mesh *m, int k, aug_mesh *s)
+{
+    *s = *m;
+    s->conn = malloc((size_t)m->ne * m->nv * sizeof(int32_t));
+    s->mat = malloc((size_t)m->ne * sizeof(int32_t));
+    s->ne = 0;
+    for (int64_t e = 0; e < m->ne; e++)
+        if (m->mat[e] == k) {
+            memcpy(s->conn + s->ne * m->nv, m->conn + e * m->nv, (size_t)m->nv * sizeof(int32_t));
+            s->mat[s->ne++] = k;
+        }
+}
+
+static void test_multimaterial_sum(void)
+{
+    aug_mesh m;
+    tm_box(&m, 4, 2, 2, 2, 1, 1, 1.0, 0.3);
+    free(m.mats);
+    tm_material(&m, 2, 1.0, 0.3, 1.0, 1.0);
+    m.mats[1].E = 1e3, m.mats[1].nu = 0.45, m.mats[1].rho = 3.0;
+    for (int64_t e = 0; e < m.ne; e++) {
+        double cx = 0;
+        for (int a = 0; a < 4; a++) cx += m.x[(size_t)m.conn[e * 4 + a] * 3] / 4;
+        m.mat[e] = cx > 1.0;
+    }
+    tm_fix_plane(&m, 0, 0.0, NULL);
+    int32_t *map = malloc((size_t)m.nn * 3 * sizeof *map);
+    int64_t n = aug_dofmap(&m, map);
+    aug_err e;
+    for (int which = AUG_MAT_K; which <= AUG_MAT_M; which++) {
+        aug_mesh a, b;
+        only_material(&m, 0, &a);
+        only_material(&m, 1, &b);
+        T_CHECK(a.ne > 0 && b.ne > 0 && a.ne + b.ne == m.ne, "material split");
+        cholmod_sparse *K = aug_assemble(&m, map, n, which, &cm, &e);
+        cholmod_sparse *Ka = aug_assemble(&a, map, n, which, &cm, &e);
+        cholmod_sparse *Kb = aug_assemble(&b, map, n, which, &cm, &e);
+        double one[2] = {1, 0}, mone[2] = {-1, 0};
+        cholmod_sparse *S = cholmod_add(Ka, Kb, one, one, 1, 1, &cm);
+        cholmod_sparse *D = cholmod_add(K, S, one, mone, 1, 1, &cm);
+        double dn = cholmod_norm_sparse(D, 0, &cm), kn = cholmod_norm_sparse(K, 0, &cm);
+        T_CHECK(dn <= 1e-14 * kn, "which %d: |K - (K_0 + K_1)| = %g of %g", which, dn, kn);
+        cholmod_free_sparse(&K, &cm);
+        cholmod_free_sparse(&Ka, &cm);
+        cholmod_free_sparse(&Kb, &cm);
+        cholmod_free_sparse(&S, &cm);
+        cholmod_free_sparse(&D, &cm);
+        free(a.conn);
+        free(a.mat);
+        free(b.conn);
+        free(b.mat);
+    }
+    free(map);
+    aug_mesh_free(&m);
+}
+
+/* K from the symbolic+scatter assembly equals K from element triplets summed
+   by CHOLMOD (cholmod_triplet_to_sparse), with constraints */
+static void test_assembly_vs_triplets(void)
+{
+    aug_mesh m;
+    tm_box(&m, 3, 3, 2, 1, 1, 0.7, 2.0, 0.25);
+    distort(&m, 0.2, 0.3);
+    tm_fix_plane(&m, 2, 0.0, NULL);
+    int32_t *map = malloc((size_t)m.nn * 3 * sizeof *map);
+    int64_t n = aug_dofmap(&m, map);
+    aug_err e;
+    cholmod_sparse *K = aug_assemble(&m, map, n, AUG_MAT_K, &cm, &e);
+    check_upper_sorted(K, "K");
+    cholmod_triplet *T = cholmod_allocate_triplet(n, n, (size_t)m.ne * 144, 1, CHOLMOD_REAL, &cm);
+    int *Ti = T->i, *Tj = T->j;
+    double *Tx = T->x, Ke[144];
+    for (int64_t el = 0; el < m.ne; el++) {
+        aug_elem_stiffness(&m, el, Ke);
+        for (int a = 0; a < 12; a++)
+            for (int b = 0; b < 12; b++) {
+                int ra = map[m.conn[el * 4 + a / 3] * 3 + a % 3], cb = map[m.conn[el * 4 + b / 3] * 3 + b % 3];
+                if (ra < 0 || cb < 0 || ra > cb) continue;
+                Ti[T->nnz] = ra, Tj[T->nnz] = cb, Tx[T->nnz++] = Ke[b * 12 + a];
+            }
+    }
+    cholmod_sparse *K2 = cholmod_triplet_to_sparse(T, 0, &cm);
+    double one[2] = {1, 0}, mone[2] = {-1, 0};
+    cholmod_sparse *D = cholmod_add(K, K2, one, mone, 1, 1, &cm);
+    double dn = cholmod_norm_sparse(D, 0, &cm), kn = cholmod_norm_sparse(K, 0, &cm);
+    T_CHECK(dn <= 1e-14 * kn, "|K - K_triplets| = %g of %g", dn, kn);
+    T_CHECK(cholmod_nnz(K, &cm) >= cholmod_nnz(K2, &cm), "pattern misses entries");
+    /* global symmetry: the lower triangle, assembled from the lower entries of
+       the element matrices and transposed, equals the stored upper one */
+    T->nnz = 0;
+    for (int64_t el = 0; el < m.ne; el++) {
+        aug_elem_stiffness(&m, el, Ke);
+        for (int a = 0; a < 12; a++)
+            for (int b = 0; b < 12; b++) {
+                int ra = map[m.conn[el * 4 + a / 3] * 3 + a % 3], cb = map[m.conn[el * 4 + b / 3] * 3 + b % 3];
+                if (ra < 0 || cb < 0 || ra < cb) continue;
+                Ti[T->nnz] = cb, Tj[T->nnz] = ra, Tx[T->nnz++] = Ke[b * 12 + a];
+            }
+    }
+    cholmod_sparse *KL = cholmod_triplet_to_sparse(T, 0, &cm);
+    cholmod_sparse *DL = cholmod_add(K, KL, one, mone, 1, 1, &cm);
+    double dl = cholmod_norm_sparse(DL, 0, &cm);
+    T_CHECK(dl <= 1e-14 * kn, "|K_upper - K_lower'| = %g of %g", dl, kn);
+    cholmod_free_sparse(&KL, &cm);
+    cholmod_free_sparse(&DL, &cm);
+    cholmod_free_triplet(&T, &cm);
+    cholmod_free_sparse(&K, &cm);
+    cholmod_free_sparse(&K2, &cm);
+    cholmod_free_sparse(&D, &cm);
+    free(map);
+    aug_mesh_free(&m);
+}
+
+/* f_F = l_F - K_FD a_D against the full (unconstrained) K times a_D */
+static double lift_field(const double *x, int c) { return 1e-3 * (c + 1) * (1 + x[0] - 2 * x[1]); }
+
+static void test_load_lifting(void)
+{
+    aug_mesh m;
+    tm_box(&m, 3, 2, 3, 1, 1, 1.2, 4.0, 0.3);
+    tm_fix_plane(&m, 2, 0.0, lift_field);
+    /* loads on the top face, some on constrained DOFs (ignored) */
+    int64_t nl = 0;
+    m.load_dof = malloc((size_t)m.nn * 3 * sizeof(int32_t));
+    m.load_val = malloc((size_t)m.nn * 3 * sizeof(double));
+    for (int64_t i = 0; i < m.nn; i++)
+        if (fabs(m.x[i * 3 + 2] - 1.2) < 1e-12 || i == 0) {
+            m.load_dof[nl] = (int32_t)(i * 3 + 1);
+            m.load_val[nl++] = 0.5 + 0.1 * i;
+        }
+    m.nload = nl;
+    m.have |= AUG_HAVE_LOAD;
+    int32_t *map = malloc((size_t)m.nn * 3 * sizeof *map), *all = malloc((size_t)m.nn * 3 * sizeof *all);
+    int64_t n = aug_dofmap(&m, map), nd = m.nn * 3;
+    for (int64_t i = 0; i < nd; i++) all[i] = (int32_t)i;
+    aug_err e;
+    double *f = malloc((size_t)n * sizeof *f);
+    T_CHECK(aug_load_vector(&m, map, n, f, &e) == 0, "%s", e.msg);
+    cholmod_sparse *Kf = aug_assemble(&m, all, nd, AUG_MAT_K, &cm, &e);
+    double *aD = calloc((size_t)nd, sizeof *aD), *KaD = malloc((size_t)nd * sizeof *KaD);
+    double *l = calloc((size_t)nd, sizeof *l);
+    for (int64_t t = 0; t < m.nfix; t++) aD[m.fix_dof[t]] = m.fix_val[t];
+    for (int64_t t = 0; t < m.nload; t++) l[m.load_dof[t]] += m.load_val[t];
+    tm_symv(Kf, aD, KaD);
+    double err = 0, sc = 0;
+    for (int64_t i = 0; i < nd; i++)
+        if (map[i] >= 0) {
+            double ref = l[i] - KaD[i];
+            err = fmax(err, fabs(f[map[i]] - ref));
+            sc = fmax(sc, fabs(ref));
+        }
+    T_CHECK(sc > 0 && err <= 1e-13 * sc, "lifted load differs by %g (scale %g)", err, sc);
+    cholmod_free_sparse(&Kf, &cm);
+    free(aD);
+    free(KaD);
+    free(l);
+    free(f);
+    free(map);
+    free(all);
+    aug_mesh_free(&m);
+}
+
+int main(void)
+{
+    aug_cholmod_start(&cm);
+    T_RUN(test_element_symmetry_and_null_space);
+    T_RUN(test_global_null_space);
+    T_RUN(test_patch_tet4);
+    T_RUN(test_patch_tri3);
+    T_RUN(test_mass);
+    T_RUN(test_multimaterial_sum);
+    T_RUN(test_assembly_vs_triplets);
+    T_RUN(test_load_lifting);
+    cholmod_finish(&cm);
+    T_EXIT();
+}

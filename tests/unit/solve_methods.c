@@ -1,0 +1,225 @@
+/* Every solve-aug method (amps, gmres with each preconditioner, refactor,
+   rowupdate, pcg) against fresh CHOLMOD solves over random cut sequences;
+   background swaps give the same fields; iterative refinement is counted;
+   a singular step is reported by every method. */
+#include "t.h"
+#include "solve_gen.h"
+
+static cholmod_common cm;
+
+static void random_step(gen *g, gsl_rng *r, double xc)
+{
+    double u = gsl_rng_uniform(r);
+    if (u < 0.7) {
+        for (int tries = 0; tries < 200; tries++) {
+            int64_t p = (int64_t)gsl_rng_uniform_int(r, (unsigned long)g->nn0);
+            if (g->x[p * 3] != xc || g->cut[p] || g->x[p * 3 + 2] == 0) continue;
+            if (gen_cut_node(g, p, xc, 0)) {
+                g->loads[g->n - 2] += 0.05;
+                return;
+            }
+        }
+    }
+    if (u < 0.85) {
+        int64_t j = (int64_t)gsl_rng_uniform_int(r, (unsigned long)g->n);
+        if (!g->cons[j]) g->cons[j] = 1, g->cval[j] = 0.01;
+        return;
+    }
+    for (int t = 0; t < 3; t++) g->loads[gsl_rng_uniform_int(r, (unsigned long)g->n)] -= 0.02;
+}
+
+static double reldiff(const double *a, const double *b, int64_t n)
+{
+    double d = 0, s = 0;
+    for (int64_t i = 0; i < n; i++) d += (a[i] - b[i]) * (a[i] - b[i]), s += b[i] * b[i];
+    return sqrt(d / (s > 0 ? s : 1));
+}
+
+static aug_solver *make(gen *g, const aug_solver_opts *o)
+{
+    cholmod_sparse *K0 = gen_sparse(g, &cm);
+    cholmod_factor *L0 = cholmod_analyze(K0, &cm);
+    cholmod_factorize(K0, L0, &cm);
+    aug_err e;
+    aug_solver *s = aug_solver_new(K0, g->f, L0, o, &cm, &e);
+    T_CHECK(s != NULL, "solver: %s", e.msg);
+    cholmod_free_sparse(&K0, &cm);
+    return s;
+}
+
+static int next(gen *g, gsl_rng *r, int t, aug_update *u)
+{
+    gen_snap sn;
+    gen_snapshot(g, &sn);
+    random_step(g, r, 2);
+    gen_assemble(g);
+    gen_diff(g, sn.K, sn.ld, sn.f, sn.n, t, u);
+    gen_snap_free(&sn);
+    return 0;
+}
+
+static void run_methods(int prec, unsigned long seed, int nsteps)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, seed);
+    gen g;
+    gen_init(&g, 4, 3, 5, 1.0, r);
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = aug_parse_methods("amps,gmres,refactor,rowupdate,pcg", o.order);
+    o.tol = 1e-12, o.gmres_prec = prec, o.check = 1, o.spare = 9;
+    aug_solver *s = make(&g, &o);
+    for (int t = 1; t <= nsteps && s; t++) {
+        aug_update u;
+        next(&g, r, t, &u);
+        aug_err e;
+        int rc = aug_solver_step(s, &u, NULL, 0, 0, &e);
+        aug_update_free(&u);
+        T_CHECK(rc == 0, "step %d: %s", t, e.msg);
+        if (rc) break;
+        double *ref = gen_direct(&g, &cm);
+        T_CHECK(aug_solver_n(s) == g.n, "order %lld vs %lld", (long long)aug_solver_n(s), (long long)g.n);
+        for (int m = 0; m < AUG_M_COUNT && ref; m++) {
+            T_CHECK(!aug_solver_singular(s, m), "step %d %s: singular", t, aug_method_names[m]);
+            T_CHECK(aug_solver_converged(s, m), "step %d %s: not converged", t, aug_method_names[m]);
+            double d = reldiff(aug_solver_field(s, m), ref, g.n);
+            /* iterative methods to 1e-12 relative residual, cond(K) ~ 1e3 */
+            T_CHECK(d <= 1e-10, "step %d %s: rel diff %g", t, aug_method_names[m], d);
+            double ed = aug_kv_get(aug_solver_stat(s, m), "err_direct", -1);
+            T_CHECK(ed >= 0 && ed <= 1e-10, "step %d %s: err_direct %g", t, aug_method_names[m], ed);
+            double rr = aug_kv_get(aug_solver_stat(s, m), "relres", -1);
+            /* gmres meets its tolerance on the Schur system, not on K_t */
+            T_CHECK(rr >= 0 && rr <= (m == AUG_M_GMRES ? 1e-9 : 1e-11), "step %d %s: relres %g", t, aug_method_names[m], rr);
+        }
+        free(ref);
+    }
+    aug_solver_free(s);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
+static void methods_prec_none(void) { run_methods(AUG_PREC_NONE, 41, 16); }
+static void methods_prec_d(void) { run_methods(AUG_PREC_D, 42, 16); }
+static void methods_prec_spai(void) { run_methods(AUG_PREC_SPAI, 43, 16); }
+
+/* background re-factorization swaps the base every few steps; the fields
+   equal those without it */
+static void background_same_fields(void)
+{
+    gsl_rng *r1 = gsl_rng_alloc(gsl_rng_mt19937), *r2 = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r1, 51), gsl_rng_set(r2, 51);
+    gen g1, g2;
+    gen_init(&g1, 4, 3, 5, 1.0, r1);
+    gen_init(&g2, 4, 3, 5, 1.0, r2);
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = aug_parse_methods("amps,gmres", o.order);
+    o.tol = 1e-12;
+    aug_solver *plain = make(&g1, &o);
+    o.background = 1, o.bg_lag = 3;
+    aug_solver *bg = make(&g2, &o);
+    int swaps = 0;
+    for (int t = 1; t <= 24 && plain && bg; t++) {
+        aug_update u1, u2;
+        next(&g1, r1, t, &u1);
+        next(&g2, r2, t, &u2);
+        aug_err e;
+        T_CHECK(aug_solver_step(plain, &u1, NULL, 0, 0, &e) == 0, "%s", e.msg);
+        T_CHECK(aug_solver_step(bg, &u2, NULL, 0, 0, &e) == 0, "%s", e.msg);
+        aug_update_free(&u1), aug_update_free(&u2);
+        swaps += (int)aug_kv_get(aug_solver_stat(bg, AUG_M_AMPS), "swapped", 0);
+        for (int m = 0; m < 2; m++) {
+            double d = reldiff(aug_solver_field(bg, m), aug_solver_field(plain, m), g1.n);
+            T_CHECK(d <= 1e-10, "step %d %s: bg vs plain %g", t, aug_method_names[m], d);
+        }
+        if (aug_kv_get(aug_solver_stat(bg, AUG_M_AMPS), "swapped", 0) == 1)
+            T_CHECK(aug_kv_get(aug_solver_stat(bg, AUG_M_AMPS), "m", 1e9) <
+                        aug_kv_get(aug_solver_stat(plain, AUG_M_AMPS), "m", 0),
+                    "step %d: swap did not shrink m", t);
+    }
+    T_CHECK(swaps >= 5, "only %d swaps in 24 steps with lag 3", swaps);
+    aug_solver_free(plain), aug_solver_free(bg);
+    gen_free(&g1), gen_free(&g2);
+    gsl_rng_free(r1), gsl_rng_free(r2);
+}
+
+/* --refine-iter: counted, and the residual does not get worse */
+static void refinement_counted(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 61);
+    gen g;
+    gen_init(&g, 3, 3, 6, 1e3, r);
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = aug_parse_methods("amps,refactor", o.order);
+    o.refine_iter = 2;
+    aug_solver *s = make(&g, &o);
+    for (int t = 1; t <= 10 && s; t++) {
+        aug_update u;
+        next(&g, r, t, &u);
+        aug_err e;
+        T_CHECK(aug_solver_step(s, &u, NULL, 0, 0, &e) == 0, "%s", e.msg);
+        aug_update_free(&u);
+        T_CHECK(aug_kv_get(aug_solver_stat(s, AUG_M_AMPS), "refine", -1) == 2, "refine not reported");
+        double ra = aug_kv_get(aug_solver_stat(s, AUG_M_AMPS), "relres", 1);
+        double rd = aug_kv_get(aug_solver_stat(s, AUG_M_REFACTOR), "relres", 1);
+        T_CHECK(ra <= 10 * rd + 1e-15, "step %d: refined amps relres %g vs direct %g", t, ra, rd);
+    }
+    aug_solver_free(s);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
+/* an orphaned node: every method reports the step singular, none returns a field */
+static void singular_reported(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 71);
+    gen g;
+    gen_init(&g, 3, 3, 4, 1.0, r);
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = aug_parse_methods("amps,gmres,refactor,rowupdate,pcg", o.order);
+    o.maxit = 2000;
+    aug_solver *s = make(&g, &o);
+    gen_snap sn;
+    gen_snapshot(&g, &sn);
+    gen_cut_node(&g, 3 * 4 * 4 + 4 + 1, 1.5, 1);
+    gen_assemble(&g);
+    aug_update u;
+    gen_diff(&g, sn.K, sn.ld, sn.f, sn.n, 1, &u);
+    gen_snap_free(&sn);
+    aug_err e;
+    T_CHECK(aug_solver_step(s, &u, NULL, 0, 0, &e) == 0, "%s", e.msg);
+    aug_update_free(&u);
+    for (int m = 0; m < AUG_M_COUNT; m++) {
+        if (m == AUG_M_GMRES || m == AUG_M_PCG) {
+            /* iterative: singular or not converged, never a converged number */
+            T_CHECK(aug_solver_singular(s, m) || !aug_solver_converged(s, m), "%s converged on a singular K",
+                    aug_method_names[m]);
+            continue;
+        }
+        T_CHECK(aug_solver_singular(s, m), "%s did not report the singular step", aug_method_names[m]);
+        T_CHECK(isnan(aug_kv_get(aug_solver_stat(s, m), "relres", 0)), "%s: relres is a number",
+                aug_method_names[m]);
+    }
+    aug_solver_free(s);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
+int main(void)
+{
+    cholmod_start(&cm);
+    cm.print = 0;
+    cm.error_handler = NULL;
+    T_RUN(methods_prec_none);
+    T_RUN(methods_prec_d);
+    T_RUN(methods_prec_spai);
+    T_RUN(background_same_fields);
+    T_RUN(refinement_counted);
+    T_RUN(singular_reported);
+    cholmod_finish(&cm);
+    T_EXIT();
+}
