@@ -7,4 +7,5 @@ run() { echo "== $1"; sh "bench/$1" || { echo "bench: $1 failed" >&2; status=1; 
 run stream_throughput.sh
 run factor.sh
 run solve.sh
+run refine.sh
 exit $status

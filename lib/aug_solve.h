@@ -89,6 +89,7 @@ typedef struct aug_base {
     cholmod_factor *Ls;  /* supernodal L L' with the same permutation, for
                             full back-substitutions (NULL: none) */
     double *sqrtd;       /* sqrt(D(j,j)), permuted order, when Ls is set */
+    int32_t *super_of;   /* supernode of each column of Ls */
 } aug_base;
 
 /* Take L (simplicial or supernodal: converted to simplicial LDL'), check
@@ -114,6 +115,12 @@ int64_t aug_ldl_closure(const aug_base *b, const int32_t *start, int64_t ns, int
 void aug_ldl_lsolve(const aug_base *b, const int32_t *set, int64_t k, double *x);
 /* x := D^-1 x over set (NULL: all). */
 void aug_ldl_dsolve(const aug_base *b, const int32_t *set, int64_t k, double *x);
+/* One column of V = L^-1 e_p along the etree path of p through the supernodes
+   of Ls (dense triangular solve and product per supernode, BLAS 2):
+   out[t] = V(path[t], p) for the path written by aug_ldl_path. x (size n,
+   all 0) and tmp (size n) are workspace; x is all 0 again on return. */
+void aug_ldl_path_solve_super(const aug_base *b, int32_t p, const int32_t *path, int64_t len,
+                              double *x, double *tmp, double *out);
 /* x := L^-T x over all columns, given x = D^-1 z: through the supernodal
    factor Ls = L D^1/2 when the base has one (BLAS), else column by column.
    X/Yw/Ew are cholmod_solve2 workspaces kept by the caller. Returns 0 or -1. */

@@ -299,7 +299,7 @@ static int32_t enter(walk *w, double *t, double t1, int32_t skip, int at_start)
             }
         }
     }
-    qsort(hs, (size_t)nh, sizeof *hs, cmp_hit);
+    if (nh > 1) qsort(hs, (size_t)nh, sizeof *hs, cmp_hit);
     int32_t got = -1;
     for (int64_t i = 0; i < nh && got < 0; i++) {
         hit *h = &hs[i];

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <cblas.h>
 #include "aug_solve.h"
 
 static int cmp_i32(const void *a, const void *b)
@@ -101,6 +102,11 @@ aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double
     b->L = L;
     b->step = step;
     b->refs = 1;
+    /* a supernodal L becomes Ls as it is; the simplicial copy shares its permutation */
+    if (L->is_super && (int64_t)L->n >= AUG_SUPERNODAL_MIN) {
+        b->Ls = cholmod_copy_factor(L, cm);
+        if (!b->Ls) goto nomem;
+    }
     if (to_simplicial_ldl(L, cm)) {
         aug_err_set(e, AUG_EDATA, -1, "FACT", "factor cannot be converted to simplicial LDL'");
         goto fail;
@@ -145,11 +151,15 @@ aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double
             goto fail;
         }
     aug_ldl_solve_full(b, fb, b->a, work);
-    if (Kb && b->n >= AUG_SUPERNODAL_MIN) {
-        b->Ls = supernodal_given(Kb, b->perm, b->n, cm);
-        b->sqrtd = b->Ls ? aug_malloc((size_t)b->n * sizeof *b->sqrtd) : NULL;
-        if (b->Ls && !b->sqrtd) goto nomem;
-        for (int64_t j = 0; b->Ls && j < b->n; j++) b->sqrtd[j] = sqrt(aug_base_d(b, j));
+    if (!b->Ls && Kb && b->n >= AUG_SUPERNODAL_MIN) b->Ls = supernodal_given(Kb, b->perm, b->n, cm);
+    if (b->Ls) {
+        b->sqrtd = aug_malloc((size_t)b->n * sizeof *b->sqrtd);
+        b->super_of = aug_malloc((size_t)b->n * sizeof *b->super_of);
+        if (!b->sqrtd || !b->super_of) goto nomem;
+        for (int64_t j = 0; j < b->n; j++) b->sqrtd[j] = sqrt(aug_base_d(b, j));
+        const int *sup = b->Ls->super;
+        for (size_t s = 0; s < b->Ls->nsuper; s++)
+            for (int j = sup[s]; j < sup[s + 1]; j++) b->super_of[j] = (int32_t)s;
     }
     free(mark);
     free(work);
@@ -174,6 +184,7 @@ void aug_base_release(aug_base *b, cholmod_common *cm)
     if (b->L) cholmod_free_factor(&b->L, cm);
     if (b->Ls) cholmod_free_factor(&b->Ls, cm);
     free(b->sqrtd);
+    free(b->super_of);
     free(b->parent);
     free(b->perm);
     free(b->pinv);
@@ -236,6 +247,36 @@ void aug_ldl_ltsolve(const aug_base *b, const int32_t *set, int64_t k, double *x
         double s = x[j];
         for (int q = Lp[j] + 1; q < Lp[j] + Lnz[j]; q++) s -= Lx[q] * x[Li[q]];
         x[j] = s;
+    }
+}
+
+/* Ls x = e_p supernode by supernode along the path; V = D^1/2 x (Ls = L D^1/2) */
+void aug_ldl_path_solve_super(const aug_base *b, int32_t p, const int32_t *path, int64_t len,
+                              double *x, double *tmp, double *out)
+{
+    const cholmod_factor *L = b->Ls;
+    const int *sup = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    x[p] = 1.0;
+    for (int32_t j = p; j >= 0;) {
+        int32_t s = b->super_of[j];
+        int k1 = sup[s], nscol = sup[s + 1] - k1, nsrow = pi[s + 1] - pi[s], o = j - k1;
+        const double *A = Lx + px[s];
+        int nc = nscol - o, nb = nsrow - nscol;
+        double *xs = x + k1 + o;
+        cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, nc,
+                    A + o + (size_t)o * nsrow, nsrow, xs, 1);
+        if (nb == 0) break;
+        cblas_dgemv(CblasColMajor, CblasNoTrans, nb, nc, 1.0, A + nscol + (size_t)o * nsrow,
+                    nsrow, xs, 1, 0.0, tmp, 1);
+        const int *rows = Ls + pi[s] + nscol;
+        for (int r = 0; r < nb; r++) x[rows[r]] -= tmp[r];
+        j = rows[0];
+    }
+    for (int64_t t = 0; t < len; t++) {
+        int32_t r = path[t];
+        out[t] = x[r] * b->sqrtd[r];
+        x[r] = 0;
     }
 }
 

@@ -164,7 +164,7 @@ int aug_edit_end(aug_edit *ed, int32_t step, aug_mdelta *d, int32_t **oldconn, a
     /* re-wired elements whose connectivity really changed, increasing */
     int32_t *order = aug_malloc((size_t)ed->nmod * sizeof *order + 1);
     if (!order) goto nomem;
-    memcpy(order, ed->mod_elem, (size_t)ed->nmod * sizeof *order);
+    if (ed->nmod) memcpy(order, ed->mod_elem, (size_t)ed->nmod * sizeof *order);
     qsort(order, (size_t)ed->nmod, sizeof *order, cmp_i32);
     int64_t nch = 0;
     for (int64_t i = 0; i < ed->nmod; i++) {
@@ -185,10 +185,14 @@ int aug_edit_end(aug_edit *ed, int32_t step, aug_mdelta *d, int32_t **oldconn, a
     d->mat_add = aug_malloc((size_t)ed->nadd * 4 + 1);
     if (!d->parent || !d->x || !d->elem || !d->conn || !*oldconn || !d->conn_add || !d->mat_add)
         goto nomem;
-    memcpy(d->parent, ed->parent, (size_t)ed->nnew * 4);
-    memcpy(d->x, ed->xnew, (size_t)(ed->nnew * dim) * 8);
-    memcpy(d->conn_add, ed->conn_add, (size_t)(ed->nadd * nv) * 4);
-    memcpy(d->mat_add, ed->mat_add, (size_t)ed->nadd * 4);
+    if (ed->nnew) {
+        memcpy(d->parent, ed->parent, (size_t)ed->nnew * 4);
+        memcpy(d->x, ed->xnew, (size_t)(ed->nnew * dim) * 8);
+    }
+    if (ed->nadd) {
+        memcpy(d->conn_add, ed->conn_add, (size_t)(ed->nadd * nv) * 4);
+        memcpy(d->mat_add, ed->mat_add, (size_t)ed->nadd * 4);
+    }
     for (int64_t i = 0; i < nch; i++) {
         int32_t el = order[i];
         d->elem[i] = el;

@@ -262,7 +262,7 @@ static void random_text(gsl_rng *r, char *buf, size_t n)
 
 static void random_paths(int mode)
 {
-    for (unsigned long seed = 1; seed <= 200 && !t_cur_failed; seed++) {
+    for (unsigned long seed = 1; seed <= 40 && !t_cur_failed; seed++) {
         gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
         gsl_rng_set(r, seed + 100 * mode);
         aug_mesh m;
@@ -306,7 +306,7 @@ static void degenerate(void)
     };
     for (size_t i = 0; i < sizeof cs / sizeof cs[0] && !t_cur_failed; i++)
         for (int mode = 0; mode < 2 && !t_cur_failed; mode++)
-            for (int steps = 1; steps <= 7 && !t_cur_failed; steps += 3) {
+            for (int steps = 1; steps <= 5 && !t_cur_failed; steps += 4) {
                 aug_mesh m;
                 cc_square(&m, 8, 8, 1, 1, NULL, 0);
                 res2 res;
