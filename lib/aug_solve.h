@@ -288,7 +288,10 @@ aug_bg *aug_bg_new(int nthreads);
 void aug_bg_free(aug_bg *bg);
 /* Start re-factoring K (taken) with load f (copied) in a thread; step is the
    step whose matrix K is. 0 or error (a job is running). */
-int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, int32_t step, aug_err *e);
+/* perm (may be NULL): a fill-reducing ordering of K to reuse (the old base's
+   permutation extended by the DOFs added since), saving CHOLMOD's ordering. */
+int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, const int32_t *perm,
+                 int32_t step, aug_err *e);
 int aug_bg_running(const aug_bg *bg);
 /* 1 when the job finished (without waiting), 0 otherwise. */
 int aug_bg_done(aug_bg *bg);

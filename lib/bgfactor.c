@@ -13,6 +13,7 @@ struct aug_bg {
     cholmod_common cm;
     cholmod_sparse *K;
     double *f;
+    int *perm;           /* ordering to reuse, or NULL */
     int32_t step;
     aug_base *base;
     aug_err err;
@@ -48,7 +49,16 @@ void aug_bg_free(aug_bg *bg)
 static void *work(void *arg)
 {
     aug_bg *bg = arg;
-    cholmod_factor *L = cholmod_analyze(bg->K, &bg->cm);
+    cholmod_factor *L;
+    if (bg->perm) {
+        int nm = bg->cm.nmethods, ord = bg->cm.method[0].ordering;
+        bg->cm.nmethods = 1;
+        bg->cm.method[0].ordering = CHOLMOD_GIVEN;
+        L = cholmod_analyze_p(bg->K, bg->perm, NULL, 0, &bg->cm);
+        bg->cm.nmethods = nm, bg->cm.method[0].ordering = ord;
+    } else {
+        L = cholmod_analyze(bg->K, &bg->cm);
+    }
     if (L && cholmod_factorize(bg->K, L, &bg->cm) && L->minor == L->n) {
         bg->base = aug_base_new(L, bg->K, bg->f, bg->step, &bg->cm, &bg->err);
     } else {
@@ -58,18 +68,27 @@ static void *work(void *arg)
     }
     cholmod_free_sparse(&bg->K, &bg->cm);
     free(bg->f);
+    free(bg->perm);
     bg->f = NULL;
+    bg->perm = NULL;
     atomic_store(&bg->done, 1);
     return NULL;
 }
 
-int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, int32_t step, aug_err *e)
+int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, const int32_t *perm,
+                 int32_t step, aug_err *e)
 {
     if (bg->running) return aug_err_set(e, AUG_EUSAGE, -1, "", "a background job is running");
     int64_t n = (int64_t)K->nrow;
     bg->f = aug_malloc((size_t)(n + 1) * sizeof *bg->f);
-    if (!bg->f) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    bg->perm = perm ? aug_malloc((size_t)(n + 1) * sizeof *bg->perm) : NULL;
+    if (!bg->f || (perm && !bg->perm)) {
+        free(bg->f), free(bg->perm);
+        bg->f = NULL, bg->perm = NULL;
+        return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    }
     memcpy(bg->f, f, (size_t)n * sizeof *f);
+    for (int64_t i = 0; perm && i < n; i++) bg->perm[i] = perm[i];
     /* the matrix was allocated by the caller's cholmod_common: copy it into ours */
     bg->K = K;
     bg->step = step;
@@ -78,7 +97,9 @@ int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, int32_t step, a
     atomic_store(&bg->done, 0);
     if (pthread_create(&bg->th, NULL, work, bg)) {
         free(bg->f);
+        free(bg->perm);
         bg->f = NULL;
+        bg->perm = NULL;
         bg->K = NULL;
         return aug_err_set(e, AUG_ENOMEM, -1, "", "cannot start the background thread");
     }

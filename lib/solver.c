@@ -390,7 +390,18 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
         cholmod_sparse *K = aug_cutmat_sparse(&s->cut, 0, s->cm);
         if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
         clear_hist(s);
-        if (aug_bg_start(s->bg, K, s->f, s->step, e)) {
+        /* reuse the base's ordering, the DOFs added since it ordered last */
+        int64_t nk = (int64_t)K->nrow, nb = s->base->n;
+        int32_t *perm = aug_malloc((size_t)(nk + 1) * sizeof *perm);
+        if (!perm) {
+            cholmod_free_sparse(&K, s->cm);
+            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+        }
+        memcpy(perm, s->base->perm, (size_t)nb * sizeof *perm);
+        for (int64_t i = nb; i < nk; i++) perm[i] = (int32_t)i;
+        int rc = aug_bg_start(s->bg, K, s->f, perm, s->step, e);
+        free(perm);
+        if (rc) {
             cholmod_free_sparse(&K, s->cm);
             return e->code;
         }
