@@ -6,6 +6,7 @@ status=0
 run() { echo "== $1"; sh "bench/$1" || { echo "bench: $1 failed" >&2; status=1; }; }
 run stream_throughput.sh
 run factor.sh
+run cut.sh
 run solve.sh
 run refine.sh
 exit $status

@@ -1,5 +1,6 @@
 /* cut: a stream (mesh, possibly factor and earlier steps) -> + per cut step
    MDLT, BDLT, UPDT, pATH (planar cut by node duplication, or a 2-D path). */
+#include <malloc.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -110,7 +111,9 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
             if (v && !strcmp(v, "random")) o->random_plane = o->plane = 1;
             else if (!v || aug_parse_doubles(v, o->n, 4))
                 aug_tool_usage(t, "--plane needs nx,ny,nz,d or random");
-            else o->plane = 1;
+            else if (o->n[0] == 0 && o->n[1] == 0 && o->n[2] == 0)
+                aug_tool_usage(t, "--plane %s: the normal is zero", v);
+            if (v) o->plane = 1;
             i += v != NULL;
         } else if (!strcmp(a, "--advance")) {
             if (!v || aug_parse_doubles(v, o->adv, 3)) aug_tool_usage(t, "--advance needs dx,dy,dz");
@@ -309,6 +312,10 @@ int main(int argc, char **argv)
     aug_tool_init(&t, "cut", argc, argv);
     parse(&t, argc, argv, &o);
     aug_set_threads(1); /* GSL's small eigenproblems call OpenBLAS: no idle spinning threads */
+    /* every step allocates and frees its dense E: keep freed memory mapped, so
+       that a step does not pay page faults for it again */
+    mallopt(M_MMAP_THRESHOLD, 1 << 26);
+    mallopt(M_TRIM_THRESHOLD, 1 << 28);
     aug_mesh_init(&s.m);
     aug_tool_open_in(&t, o.file);
     aug_tool_open_out(&t);
@@ -336,6 +343,7 @@ int main(int argc, char **argv)
         if (m->dim == 2) o.n[2] = 0;
         aug_tool_check(&t, aug_plane_plan(&pc, m, &c.adj, o.n, o.n[3], o.have_adv ? o.adv : NULL, &e), &e);
         if (per == 0) per = (pc.ncut + 63) / 64;
+        c.pull_dir = pc.n; /* pull the cut faces apart along the plane's normal */
     } else {
         aug_path_cut_init(&pp, &o.path, o.mode, o.snap_tol);
     }

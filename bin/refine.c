@@ -115,13 +115,15 @@ static void keep(aug_tool *t, state *s, const aug_rec *rec)
         s->buf = b;
         s->capbuf = cap;
     }
+    /* a deep copy: the payload in its own buffer (zbuf, freed by aug_rec_free) */
     aug_rec *c = &s->buf[s->nbuf++];
     *c = *rec;
-    c->data = malloc(rec->len + 1);
+    c->zbuf = malloc(rec->len + 1);
     c->wire = malloc(rec->wirelen + 1);
-    if (!c->data || !c->wire) aug_tool_die(t, "out of memory");
-    memcpy(c->data, rec->data, rec->len);
+    if (!c->zbuf || !c->wire) aug_tool_die(t, "out of memory");
+    memcpy(c->zbuf, rec->data, rec->len);
     memcpy(c->wire, rec->wire, rec->wirelen);
+    c->data = c->zbuf;
     c->cap_data = rec->len + 1;
     c->cap_wire = rec->wirelen + 1;
 }

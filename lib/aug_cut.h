@@ -274,10 +274,11 @@ int aug_cut_constrain_set(const aug_mesh *m, const char *set, const double *v, a
 int aug_cut_constrain_box(const aug_mesh *m, const double *lo, const double *hi,
                           const double *v, aug_bdelta *b, aug_err *e);
 /* Pull forces (AMPS sec. 4.3.2): every copy made by d (a new node at its parent's
-   place) gets F along the direction from its parent's element star to its own,
-   the parent the opposite force. m: the mesh after d; adj current. */
+   place) gets F along the direction from its parent's element star to its own
+   (dir non-NULL: along +-dir, the sign of that direction), the parent the
+   opposite force. m: the mesh after d; adj current. */
 int aug_cut_pull(const aug_mesh *m, const aug_adj *adj, const aug_mdelta *d, double F,
-                 aug_bdelta *b, aug_err *e);
+                 const double *dir, aug_bdelta *b, aug_err *e);
 
 /* ---- One cut step: edit -> MDLT, BDLT, UPDT, pATH (bin/cut.c and the tests) ---- */
 enum { AUG_DETACH_ERROR = 0, AUG_DETACH_PIN = 1, AUG_DETACH_DROP = 2 };
@@ -292,6 +293,7 @@ typedef struct aug_cutter {
     int policy;                  /* AUG_DETACH_* */
     int one_piece;               /* the last analysis found one face-connected piece */
     double pull;                 /* pull force per copy, 0: none */
+    const double *pull_dir;      /* its direction up to sign (planar cut: the normal), or NULL */
 } aug_cutter;
 typedef struct aug_cut_step {
     int32_t step;

@@ -63,9 +63,12 @@ int aug_mesh_apply(aug_mesh *m, const aug_mdelta *d, aug_err *e);
    nfree0 + (node - nn0)*dim + c. */
 int64_t aug_cut_index(const aug_mesh *m, int64_t nn0, const int32_t *map0, int64_t nfree0,
                       int64_t node, int c);
-/* The UPDT of mesh delta d applied to mesh `before` (eq. 3.1): H = matrix indices
-   of the old DOFs touched by changed elements, k = dim * d->nnew, E = -(K_t - K_{t-1})
-   on Hbar (new-new block relative to the identity padding), df on Hbar. */
+/* The UPDT of mesh delta d applied to mesh `before` (eq. 3.1; lib/update_build.c):
+   H = the old matrix indices whose row of K or whose load changes (among the DOFs
+   of changed elements), k = dim * d->nnew, E = -(K_t - [K_{t-1} 0; 0 0]) on Hbar
+   (new-new block: -K_t), df = f_t - [f_{t-1}; 0] on Hbar; K_t, f_t as assembled
+   from scratch by aug_assemble_cut / aug_load_cut (aug_cut.h). With a BDLT of the
+   same step: aug_update_build_bc. */
 int aug_update_build(const aug_mesh *before, const aug_mdelta *d, int64_t nn0,
                      const int32_t *map0, int64_t nfree0, aug_update *u, aug_err *e);
 

@@ -71,7 +71,7 @@ static double current(const aug_mesh *m, const aug_bdelta *b, int32_t dof)
 }
 
 int aug_cut_pull(const aug_mesh *m, const aug_adj *adj, const aug_mdelta *d, double F,
-                 aug_bdelta *b, aug_err *e)
+                 const double *dir, aug_bdelta *b, aug_err *e)
 {
     aug_err_clear(e);
     int dim = m->dim;
@@ -86,6 +86,15 @@ int aug_cut_pull(const aug_mesh *m, const aug_adj *adj, const aug_mdelta *d, dou
         for (int k = 0; k < dim; k++) {
             u[k] = cq[k] - cp[k];
             s += u[k] * u[k];
+        }
+        if (dir) {
+            double sg = 0;
+            s = 0;
+            for (int k = 0; k < dim; k++) sg += u[k] * dir[k];
+            for (int k = 0; k < dim; k++) {
+                u[k] = sg >= 0 ? dir[k] : -dir[k];
+                s += u[k] * u[k];
+            }
         }
         s = sqrt(s);
         if (!(s > 0)) continue;

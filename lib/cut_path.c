@@ -337,7 +337,8 @@ static int walk_curve(walk *w, double t, double t1, int fresh)
         n = enter(w, &t, t1, -1, fresh);
         if (n == -2) return w->e->code;
     }
-    for (int it = 0; n >= 0 && it < MAX_WALK; it++) {
+    int it;
+    for (it = 0; n >= 0 && it < MAX_WALK; it++) {
         double h = local_size(w, n);
         if (t >= t1 - 1e-12) break;
         probe(w, t, t1, h, q);
@@ -382,6 +383,9 @@ static int walk_curve(walk *w, double t, double t1, int fresh)
         n = y;
         t = tn;
     }
+    if (it == MAX_WALK)
+        return aug_err_set(w->e, AUG_EDATA, -1, "pATH", "the walk along path line %d does not advance",
+                           w->c->line);
     pc->node = n;
     pc->t = t;
     return 0;
@@ -402,6 +406,8 @@ static int cmp_i32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* walk every curve overlapping arc lengths (s, s_to], then separate the nodes
+   of the cut edges made (thesis ch. 3.6: partial, cross and re-cuts alike) */
 int aug_path_step(aug_path_cut *pc, aug_edit *ed, double s_to, double **seg, int64_t *nseg,
                   aug_err *e)
 {

@@ -67,6 +67,8 @@ static int in_plane(const double *n, const double *v, int dim, double *out, doub
     return 1;
 }
 
+/* side(e) = [n.centroid(e) > d]; cut faces = faces shared by elements of both sides;
+   cut nodes = their nodes, sorted by (x.adv, node index) */
 int aug_plane_plan(aug_plane_cut *pc, const aug_mesh *m, const aug_adj *adj, const double n[3],
                    double d, const double *adv, aug_err *e)
 {
@@ -223,6 +225,7 @@ static int push_seg(double **seg, int64_t *nseg, int64_t *cap, const double *a, 
     return 0;
 }
 
+/* duplicate cut nodes next .. next+count-1: the + side of each star gets a copy */
 int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg, int64_t *nseg,
                    aug_err *e)
 {

@@ -52,6 +52,7 @@ void aug_cut_step_free(aug_cut_step *s)
     memset(s, 0, sizeof *s);
 }
 
+/* d = the edit as an MDLT; mesh += d; face neighbours refreshed */
 int aug_cutter_apply(aug_cutter *c, aug_cut_step *s, aug_err *e)
 {
     s->nn_before = c->m->nn;
@@ -73,12 +74,14 @@ int aug_cutter_apply(aug_cutter *c, aug_cut_step *s, aug_err *e)
     return 0;
 }
 
+/* bc += pull forces; while a piece is unsupported: error, or bc += its supports;
+   u = the UPDT of (d, bc) (AMPS eq. 3.1); then the mesh takes bc */
 int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e)
 {
     aug_err_clear(e);
     int rc;
     s->bc.step = s->step;
-    if (c->pull != 0 && (rc = aug_cut_pull(c->m, &c->adj, &s->d, c->pull, &s->bc, e))) return rc;
+    if (c->pull != 0 && (rc = aug_cut_pull(c->m, &c->adj, &s->d, c->pull, c->pull_dir, &s->bc, e))) return rc;
     if (aug_bdelta_finish(&s->bc)) goto nomem;
     /* a piece without support: report it, or hold it and look again */
     for (int round = 0;; round++) {

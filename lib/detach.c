@@ -200,6 +200,8 @@ static int cmp_first(const void *a, const void *b, void *ctx)
     return (x > y) - (x < y);
 }
 
+/* null space of the rigid motions r_P of all pieces P subject to
+   u_P(x_i)_c = 0 for constrained (i, c) and u_P(x_i) = u_Q(x_i) at shared nodes */
 int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn,
                     const aug_bdelta *extra, aug_pieces *out, aug_err *e)
 {

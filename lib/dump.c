@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "aug_cut.h"
 #include "aug_stats.h"
 
 #define PER_I 10 /* integers per line of a 1-D array */
@@ -326,6 +327,29 @@ static int d_mdlt(FILE *o, const aug_mesh *m, const aug_rec *rec, aug_err *e)
     return 0;
 }
 
+static int d_bdlt(FILE *o, const aug_rec *rec, aug_err *e)
+{
+    aug_bdelta b;
+    aug_bdelta_init(&b);
+    if (aug_read_bdelta(rec, &b, e)) {
+        aug_bdelta_free(&b);
+        return e->code;
+    }
+    header(o, rec);
+    fprintf(o, "  nfix %lld\n", (long long)b.nfix);
+    aug_cur c = mem_cur(b.fix_dof, (uint64_t)b.nfix * 4);
+    arr_i32(o, "dof", &c, (uint64_t)b.nfix);
+    c = mem_cur(b.fix_val, (uint64_t)b.nfix * 8);
+    arr_f64(o, "value", &c, (uint64_t)b.nfix);
+    fprintf(o, "  nload %lld\n", (long long)b.nload);
+    c = mem_cur(b.load_dof, (uint64_t)b.nload * 4);
+    arr_i32(o, "ldof", &c, (uint64_t)b.nload);
+    c = mem_cur(b.load_val, (uint64_t)b.nload * 8);
+    arr_f64(o, "lvalue", &c, (uint64_t)b.nload);
+    aug_bdelta_free(&b);
+    return 0;
+}
+
 static int d_updt(FILE *o, const aug_rec *rec, aug_err *e)
 {
     aug_update u;
@@ -384,6 +408,7 @@ int aug_dump_record(FILE *out, aug_dump *d, const aug_rec *rec, aug_err *e)
         rc = d_kv(out, rec, e);
     else if (is(rec, "MDLT")) rc = d_mdlt(out, &d->mesh, rec, e);
     else if (is(rec, "UPDT")) rc = d_updt(out, rec, e);
+    else if (is(rec, "BDLT")) rc = d_bdlt(out, rec, e);
     else if (aug_check_payload(rec, e)) rc = e->code;
     else {
         header(out, rec);

@@ -159,311 +159,357 @@ typedef struct side_key {
     int32_t a, b;
 } side_key;
 
-int aug_refine_region2d(aug_refiner *r, const aug_mdelta *d, const int32_t *oldc, int64_t nnc,
-                        int64_t nec, const double *seg, int64_t nseg, aug_refine_q *q, aug_err *e)
-{
-    aug_work *W = &r->work;
-    const aug_mesh *C = &r->cut;
-    int step = d->step;
-    int rc = AUG_ENOMEM;
+/* the state of one step's re-triangulation */
+typedef struct reg {
+    aug_refiner *r;
+    aug_work *W;
+    const aug_mesh *C;          /* the cut's mesh after the step */
+    const aug_mdelta *d;
+    const int32_t *oldc;        /* old connectivity of d->elem */
+    int64_t nnc, nec;           /* the cut's counts before the step */
+    const double *seg;
+    int64_t nseg;
+    aug_err *e;
     grid G;
-    aug_cdt cdt;
-    memset(&cdt, 0, sizeof cdt);
-    int64_t np = d->nmod + (C->ne - nec), nF = 0;
-    int32_t *piece = aug_malloc((size_t)(np + 1) * sizeof *piece);
-    int32_t *w2l = aug_malloc((size_t)(W->m.nn + 1) * sizeof *w2l);
-    unsigned char *mark = aug_calloc((size_t)W->m.ne + 1, 1);
-    int32_t *F = aug_malloc((size_t)(W->m.ne + 1) * sizeof *F);
-    int32_t *loc = aug_malloc((size_t)(C->nn + 1) * sizeof *loc);
-    int32_t *firstp = aug_malloc((size_t)(d->nnew + 1) * sizeof *firstp);
-    int32_t *l2w = NULL, *cptr = NULL, *cind = NULL, *fin = NULL, *ftag = NULL, *fcopy = NULL;
-    double *fa0 = NULL;
-    aug_edgemap done;
-    memset(&done, 0, sizeof done);
-    memset(&G, 0, sizeof G);
-    if (!piece || !w2l || !mark || !F || !loc || !firstp || aug_cdt_init(&cdt) ||
-        aug_edgemap_init(&done, 64) || grid_build(&G, W))
-        goto fail;
-    for (int64_t i = 0; i < d->nmod; i++) piece[i] = d->elem[i];
-    for (int64_t i = nec; i < C->ne; i++) piece[d->nmod + i - nec] = (int32_t)i;
-    for (int64_t i = 0; i < W->m.nn; i++) w2l[i] = -1;
-    for (int64_t i = 0; i < C->nn; i++) loc[i] = -1;
+    aug_cdt cdt;                /* the local triangulation */
+    aug_edgemap done;           /* constraints recovered (local pairs) */
+    int64_t np, nF;
+    int32_t *piece;             /* np cut elements the step wrote */
+    unsigned char *mark;        /* work elements in the region */
+    int32_t *F;                 /* nF region elements, increasing */
+    int32_t *w2l, *l2w;         /* work node <-> local vertex */
+    int32_t *loc;               /* cut node -> local vertex of its place, -1 */
+    int32_t *firstp;            /* new cut node -> a piece holding it */
+    int32_t *cptr, *cind;       /* local vertex -> (piece, corner) of the cut nodes there */
+    int32_t nfin;
+    int32_t *fin, *ftag;        /* final triangles: work nodes, material */
+    double *fa0;                /* their original measures */
+} reg;
 
-    /* F: work triangles overlapping the old geometry of the changed elements */
-    for (int64_t k = 0; k < d->nmod; k++) {
+#define NOMEM(g) aug_err_set((g)->e, AUG_ENOMEM, -1, "MDLT", "out of memory")
+
+/* the region: work triangles overlapping the old geometry of the changed
+   elements (F, increasing); intersected: those a pATH segment crosses */
+static int find_region(reg *g, aug_refine_q *q)
+{
+    aug_work *W = g->W;
+    for (int64_t k = 0; k < g->d->nmod; k++) {
         double A[3][2], bl[2], bh[2];
-        const int32_t *v = oldc + 3 * k;
-        for (int j = 0; j < 3; j++) A[j][0] = CX(r, v[j])[0], A[j][1] = CX(r, v[j])[1];
-        tri_box(C->x, v, bl, bh);
+        const int32_t *v = g->oldc + 3 * k;
+        for (int j = 0; j < 3; j++) A[j][0] = CX(g->r, v[j])[0], A[j][1] = CX(g->r, v[j])[1];
+        tri_box(g->C->x, v, bl, bh);
         int i0, i1, j0, j1;
-        cell_range(&G, bl, bh, &i0, &i1, &j0, &j1);
+        cell_range(&g->G, bl, bh, &i0, &i1, &j0, &j1);
         for (int i = i0; i <= i1; i++)
             for (int j = j0; j <= j1; j++) {
-                int64_t c = (int64_t)i * G.g + j;
-                for (int64_t s = G.ptr[c]; s < G.ptr[c + 1]; s++) {
-                    int32_t t = G.ind[s];
-                    if (mark[t]) continue;
+                int64_t c = (int64_t)i * g->G.g + j;
+                for (int64_t s = g->G.ptr[c]; s < g->G.ptr[c + 1]; s++) {
+                    int32_t t = g->G.ind[s];
+                    if (g->mark[t]) continue;
                     double B[3][2];
                     for (int m = 0; m < 3; m++) {
                         const double *x = WX(W, W->m.conn[3 * t + m]);
                         B[m][0] = x[0], B[m][1] = x[1];
                     }
-                    if (overlap(A, B)) mark[t] = 1, F[nF++] = t;
+                    if (overlap(A, B)) g->mark[t] = 1;
                 }
             }
     }
-    {   /* F in increasing order */
-        int64_t k = 0;
-        for (int64_t t = 0; t < W->m.ne; t++)
-            if (mark[t]) F[k++] = (int32_t)t;
-    }
-    q->region = nF;
+    g->nF = 0;
+    for (int64_t t = 0; t < W->m.ne; t++)
+        if (g->mark[t]) g->F[g->nF++] = (int32_t)t;
+    q->region = g->nF;
     q->intersected = 0;
-    for (int64_t k = 0; k < nF; k++) {
-        const int32_t *v = W->m.conn + 3 * (int64_t)F[k];
-        for (int64_t s = 0; s < nseg; s++)
-            if (seg_crosses(WX(W, v[0]), WX(W, v[1]), WX(W, v[2]), seg + 4 * s, seg + 4 * s + 2)) {
+    for (int64_t k = 0; k < g->nF; k++) {
+        const int32_t *v = W->m.conn + 3 * (int64_t)g->F[k];
+        for (int64_t s = 0; s < g->nseg; s++)
+            if (seg_crosses(WX(W, v[0]), WX(W, v[1]), WX(W, v[2]), g->seg + 4 * s, g->seg + 4 * s + 2)) {
                 q->intersected++;
                 break;
             }
     }
-    if (!nseg) q->intersected = d->nmod;
+    if (!g->nseg) q->intersected = g->d->nmod;
+    return 0;
+}
 
-    /* the local triangulation of F; fixed: interior constraints and material interfaces */
-    for (int64_t k = 0; k < nF; k++) {
-        const int32_t *v = W->m.conn + 3 * (int64_t)F[k];
+/* the local triangulation of F (tags: materials); fixed: the work mesh's fixed
+   edges and material interfaces */
+static int build_local(reg *g)
+{
+    aug_work *W = g->W;
+    for (int64_t k = 0; k < g->nF; k++) {
+        const int32_t *v = W->m.conn + 3 * (int64_t)g->F[k];
         int32_t lv[3];
         for (int j = 0; j < 3; j++) {
-            if (w2l[v[j]] < 0) {
-                w2l[v[j]] = aug_cdt_vertex(&cdt, WX(W, v[j])[0], WX(W, v[j])[1]);
-                if (w2l[v[j]] < 0) goto fail;
+            if (g->w2l[v[j]] < 0) {
+                g->w2l[v[j]] = aug_cdt_vertex(&g->cdt, WX(W, v[j])[0], WX(W, v[j])[1]);
+                if (g->w2l[v[j]] < 0) return NOMEM(g);
             }
-            lv[j] = w2l[v[j]];
+            lv[j] = g->w2l[v[j]];
         }
-        if (aug_cdt_tri(&cdt, lv[0], lv[1], lv[2], W->m.mat[F[k]]) < 0) goto fail;
+        if (aug_cdt_tri(&g->cdt, lv[0], lv[1], lv[2], W->m.mat[g->F[k]]) < 0) return NOMEM(g);
     }
-    int32_t nlv0 = cdt.nv;
-    l2w = aug_malloc((size_t)(nlv0 + d->nnew + 1) * sizeof *l2w);
-    if (!l2w) goto fail;
+    g->l2w = aug_malloc((size_t)(g->cdt.nv + g->d->nnew + 1) * sizeof *g->l2w);
+    if (!g->l2w) return NOMEM(g);
     for (int64_t i = 0; i < W->m.nn; i++)
-        if (w2l[i] >= 0) l2w[w2l[i]] = (int32_t)i;
-    for (int64_t k = 0; k < nF; k++) {
-        const int32_t *v = W->m.conn + 3 * (int64_t)F[k];
+        if (g->w2l[i] >= 0) g->l2w[g->w2l[i]] = (int32_t)i;
+    for (int64_t k = 0; k < g->nF; k++) {
+        const int32_t *v = W->m.conn + 3 * (int64_t)g->F[k];
         for (int j = 0; j < 3; j++) {
             int32_t a = v[j], b = v[(j + 1) % 3];
-            int64_t n = aug_work_across(W, F[k], a, b);
-            int fix = aug_work_edge_fixed(W, a, b) || (n >= 0 && W->m.mat[n] != W->m.mat[F[k]]);
-            if (fix && aug_cdt_fix(&cdt, w2l[a], w2l[b])) goto fail;
+            int64_t n = aug_work_across(W, g->F[k], a, b);
+            int fix = aug_work_edge_fixed(W, a, b) || (n >= 0 && W->m.mat[n] != W->m.mat[g->F[k]]);
+            if (fix && aug_cdt_fix(&g->cdt, g->w2l[a], g->w2l[b])) return NOMEM(g);
         }
     }
+    return 0;
+}
 
-    /* locations of the pieces' nodes: old ones where they are, new ones inserted */
-    for (int64_t i = 0; i < d->nnew; i++) firstp[i] = -1;
-    for (int64_t k = 0; k < np; k++) {
-        const int32_t *v = C->conn + 3 * (int64_t)piece[k];
+/* where the pieces' nodes are: old ones at their work node, copies at their
+   parent's place, new points located from a piece holding them (so a point on
+   an old slit goes to its side) and inserted by Bowyer-Watson */
+static int insert_nodes(reg *g)
+{
+    const aug_mesh *C = g->C;
+    const aug_mdelta *d = g->d;
+    int step = d->step, rc;
+    for (int64_t i = 0; i < d->nnew; i++) g->firstp[i] = -1;
+    for (int64_t k = 0; k < g->np; k++) {
+        const int32_t *v = C->conn + 3 * (int64_t)g->piece[k];
         for (int j = 0; j < 3; j++) {
-            if (v[j] < nnc) {
-                int32_t wn = r->cnode[v[j]];
-                if (wn < 0 || w2l[wn] < 0) {
-                    rc = aug_err_set(e, AUG_EDATA, -1, "MDLT",
-                                     "step %d: node %d of a changed element is not in the region",
-                                     step, (int)v[j]);
-                    goto out;
-                }
-                loc[v[j]] = w2l[wn];
-            } else if (firstp[v[j] - nnc] < 0) {
-                firstp[v[j] - nnc] = (int32_t)k;
+            if (v[j] < g->nnc) {
+                int32_t wn = g->r->cnode[v[j]];
+                if (wn < 0 || g->w2l[wn] < 0)
+                    return aug_err_set(g->e, AUG_EDATA, -1, "MDLT",
+                                       "step %d: node %d of a changed element is not in the region",
+                                       step, (int)v[j]);
+                g->loc[v[j]] = g->w2l[wn];
+            } else if (g->firstp[v[j] - g->nnc] < 0) {
+                g->firstp[v[j] - g->nnc] = (int32_t)k;
             }
         }
     }
     for (int64_t i = 0; i < d->nnew; i++) {
-        int32_t c = (int32_t)(nnc + i), par = d->parent[i];
-        const double *x = CX(r, c);
-        if (!memcmp(x, CX(r, par), 2 * sizeof *x)) { /* a copy: same place as its parent */
-            loc[c] = loc[par];
+        int32_t c = (int32_t)(g->nnc + i), par = d->parent[i];
+        const double *x = CX(g->r, c);
+        if (!memcmp(x, CX(g->r, par), 2 * sizeof *x)) { /* a copy: same place as its parent */
+            g->loc[c] = g->loc[par];
             continue;
         }
-        if (firstp[i] < 0) continue; /* in no element */
-        const int32_t *v = C->conn + 3 * (int64_t)piece[firstp[i]];
-        double cen[2] = {(CX(r, v[0])[0] + CX(r, v[1])[0] + CX(r, v[2])[0]) / 3,
-                         (CX(r, v[0])[1] + CX(r, v[1])[1] + CX(r, v[2])[1]) / 3};
+        if (g->firstp[i] < 0) continue; /* in no element */
+        const int32_t *v = C->conn + 3 * (int64_t)g->piece[g->firstp[i]];
+        double cen[2] = {(CX(g->r, v[0])[0] + CX(g->r, v[1])[0] + CX(g->r, v[2])[0]) / 3,
+                         (CX(g->r, v[0])[1] + CX(g->r, v[1])[1] + CX(g->r, v[2])[1]) / 3};
         double wp[2] = {x[0] + 1e-6 * (cen[0] - x[0]), x[1] + 1e-6 * (cen[1] - x[1])};
-        int32_t at, tw = aug_cdt_locate(&cdt, wp[0], wp[1], -1, NULL);
-        int32_t t = aug_cdt_locate(&cdt, x[0], x[1], tw, &at);
-        if (t < 0) {
-            rc = aug_err_set(e, AUG_EDATA, -1, "MDLT",
-                             "step %d: new node %lld lies outside the elements the step changed",
-                             step, (long long)i);
-            goto out;
-        }
+        int32_t at, tw = aug_cdt_locate(&g->cdt, wp[0], wp[1], -1, NULL);
+        int32_t t = aug_cdt_locate(&g->cdt, x[0], x[1], tw, &at);
+        if (t < 0)
+            return aug_err_set(g->e, AUG_EDATA, -1, "MDLT",
+                               "step %d: new node %lld lies outside the elements the step changed",
+                               step, (long long)i);
         if (at >= 0) {
-            loc[c] = at; /* on an existing node of the refined mesh */
+            g->loc[c] = at; /* on an existing node of the refined mesh */
             continue;
         }
-        int32_t lv = aug_cdt_vertex(&cdt, x[0], x[1]);
-        if (lv < 0) goto fail;
-        l2w[lv] = -1;
-        if ((rc = aug_cdt_insert(&cdt, lv, t))) {
-            if (rc == AUG_ENOMEM) goto fail;
-            rc = aug_err_set(e, rc, -1, "MDLT", "step %d: cannot insert new node %lld", step,
-                             (long long)i);
-            goto out;
-        }
-        loc[c] = lv;
+        int32_t lv = aug_cdt_vertex(&g->cdt, x[0], x[1]);
+        if (lv < 0) return NOMEM(g);
+        g->l2w[lv] = -1;
+        if ((rc = aug_cdt_insert(&g->cdt, lv, t)))
+            return rc == AUG_ENOMEM ? NOMEM(g)
+                                    : aug_err_set(g->e, rc, -1, "MDLT", "step %d: cannot insert new node %lld",
+                                                  step, (long long)i);
+        g->loc[c] = lv;
     }
+    return 0;
+}
 
-    /* constraints: the pieces' cut edges (open in the cut mesh, or on the path) */
-    for (int64_t k = 0; k < np; k++) {
-        const int32_t *v = C->conn + 3 * (int64_t)piece[k];
+/* constraints: the pieces' cut edges (open in the cut mesh, or on the path),
+   recovered and fixed; then Lawson flips: constrained Delaunay */
+static int recover_cuts(reg *g)
+{
+    const aug_mesh *C = g->C;
+    for (int64_t k = 0; k < g->np; k++) {
+        const int32_t *v = C->conn + 3 * (int64_t)g->piece[k];
         for (int j = 0; j < 3; j++) {
             int32_t a = v[j], b = v[(j + 1) % 3];
-            const int32_t *s = aug_edgemap_get(&r->cadj, a, b);
+            const int32_t *s = aug_edgemap_get(&g->r->cadj, a, b);
             int open = s && (s[0] < 0 || s[1] < 0);
-            if (!open && !on_path(CX(r, a), CX(r, b), seg, nseg)) continue;
-            int32_t la = loc[a], lb = loc[b];
-            if (la < 0 || lb < 0 || la == lb || aug_edgemap_get(&done, la, lb)) continue;
-            if (!aug_edgemap_put(&done, la, lb)) goto fail;
-            if ((rc = aug_cdt_recover(&cdt, la, lb))) {
-                if (rc == AUG_ENOMEM) goto fail;
-                rc = aug_err_set(e, rc, -1, "MDLT",
-                                 "step %d: cut edge %d-%d crosses a fixed edge of the refined mesh",
-                                 step, (int)a, (int)b);
-                goto out;
-            }
+            if (!open && !on_path(CX(g->r, a), CX(g->r, b), g->seg, g->nseg)) continue;
+            int32_t la = g->loc[a], lb = g->loc[b];
+            if (la < 0 || lb < 0 || la == lb || aug_edgemap_get(&g->done, la, lb)) continue;
+            if (!aug_edgemap_put(&g->done, la, lb)) return NOMEM(g);
+            int rc = aug_cdt_recover(&g->cdt, la, lb);
+            if (rc)
+                return rc == AUG_ENOMEM ? NOMEM(g)
+                                        : aug_err_set(g->e, rc, -1, "MDLT",
+                                                      "step %d: cut edge %d-%d crosses a fixed edge of the "
+                                                      "refined mesh", g->d->step, (int)a, (int)b);
         }
     }
-    if (aug_cdt_legalize(&cdt)) goto fail;
+    return aug_cdt_legalize(&g->cdt) ? NOMEM(g) : 0;
+}
 
-    /* new work nodes, in the cut's order: inserted points and copies */
+/* the work nodes of the cut's new nodes, in the cut's order: inserted points and
+   copies get new nodes (parents mapped), points on an existing node take it */
+static int new_nodes(reg *g)
+{
+    const aug_mdelta *d = g->d;
     for (int64_t i = 0; i < d->nnew; i++) {
-        int32_t c = (int32_t)(nnc + i), par = d->parent[i], lv = loc[c];
+        int32_t c = (int32_t)(g->nnc + i), par = d->parent[i], lv = g->loc[c];
         if (lv < 0) {
-            r->cnode[c] = -1;
+            g->r->cnode[c] = -1;
             continue;
         }
-        int32_t wpar = r->cnode[par];
-        if (wpar < 0) {
-            rc = aug_err_set(e, AUG_EDATA, -1, "MDLT", "step %d: parent of new node %lld unused",
-                             step, (long long)i);
-            goto out;
-        }
-        int copy = !memcmp(CX(r, c), CX(r, par), 2 * sizeof(double));
-        if (copy || l2w[lv] < 0) {
-            int32_t wn = aug_work_node(W, CX(r, c), wpar);
-            if (wn < 0) goto fail;
-            if (!copy) l2w[lv] = wn;
-            r->cnode[c] = wn;
+        int32_t wpar = g->r->cnode[par];
+        if (wpar < 0)
+            return aug_err_set(g->e, AUG_EDATA, -1, "MDLT", "step %d: parent of new node %lld unused",
+                               d->step, (long long)i);
+        int copy = !memcmp(CX(g->r, c), CX(g->r, par), 2 * sizeof(double));
+        if (copy || g->l2w[lv] < 0) {
+            int32_t wn = aug_work_node(g->W, CX(g->r, c), wpar);
+            if (wn < 0) return NOMEM(g);
+            if (!copy) g->l2w[lv] = wn;
+            g->r->cnode[c] = wn;
         } else {
-            r->cnode[c] = l2w[lv];
+            g->r->cnode[c] = g->l2w[lv];
         }
     }
+    return 0;
+}
 
-    /* candidates: local vertex -> the pieces' nodes there (CSR) */
-    cptr = aug_calloc((size_t)cdt.nv + 1, sizeof *cptr);
-    cind = aug_malloc((size_t)(3 * np + 1) * sizeof *cind);
-    if (!cptr || !cind) goto fail;
+/* local vertex -> the pieces' corners at its place (CSR) */
+static int candidates(reg *g)
+{
+    g->cptr = aug_calloc((size_t)g->cdt.nv + 1, sizeof *g->cptr);
+    g->cind = aug_malloc((size_t)(3 * g->np + 1) * sizeof *g->cind);
+    if (!g->cptr || !g->cind) return NOMEM(g);
     for (int pass = 0; pass < 2; pass++) {
-        for (int64_t k = 0; k < np; k++) {
-            const int32_t *v = C->conn + 3 * (int64_t)piece[k];
+        for (int64_t k = 0; k < g->np; k++) {
+            const int32_t *v = g->C->conn + 3 * (int64_t)g->piece[k];
             for (int j = 0; j < 3; j++) {
-                if (loc[v[j]] < 0) continue;
-                if (pass == 0) cptr[loc[v[j]] + 1]++;
-                else cind[cptr[loc[v[j]]]++] = (int32_t)(k * 3 + j);
+                int32_t lv = g->loc[v[j]];
+                if (lv < 0) continue;
+                if (pass == 0) g->cptr[lv + 1]++;
+                else g->cind[g->cptr[lv]++] = (int32_t)(k * 3 + j);
             }
         }
         if (pass == 0)
-            for (int32_t i = 0; i < cdt.nv; i++) cptr[i + 1] += cptr[i];
+            for (int32_t i = 0; i < g->cdt.nv; i++) g->cptr[i + 1] += g->cptr[i];
         else {
-            for (int32_t i = cdt.nv; i > 0; i--) cptr[i] = cptr[i - 1];
-            cptr[0] = 0;
+            for (int32_t i = g->cdt.nv; i > 0; i--) g->cptr[i] = g->cptr[i - 1];
+            g->cptr[0] = 0;
         }
     }
+    return 0;
+}
 
-    /* final connectivity: each corner takes the node of the piece its wedge lies in */
-    fin = aug_malloc((size_t)(3 * cdt.nt + 1) * sizeof *fin);
-    ftag = aug_malloc((size_t)(cdt.nt + 1) * sizeof *ftag);
-    fa0 = aug_malloc((size_t)(cdt.nt + 1) * sizeof *fa0);
-    if (!fin || !ftag || !fa0) goto fail;
-    int32_t nfin = 0;
-    for (int32_t t = 0; t < cdt.nt; t++) {
-        const int32_t *v = cdt.tri + 3 * t;
+/* the node of corner j of local triangle p: the node (original or copy) of the
+   piece holding a point of the triangle near that corner; outside the pieces
+   (the region reaches past the changed elements) the work node stays */
+static int32_t corner_node(const reg *g, const double *p[3], int j, int32_t x)
+{
+    int32_t id = g->l2w[x];
+    if (g->cptr[x + 1] == g->cptr[x]) return id;
+    double cen[2] = {(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3};
+    /* a quarter of the smallest altitude at the corner: inside the triangle and
+       inside whichever piece around the corner holds that direction */
+    double alt = 2 * aug_orient2d(p[0], p[1], p[2]) /
+                 hypot(p[(j + 2) % 3][0] - p[(j + 1) % 3][0], p[(j + 2) % 3][1] - p[(j + 1) % 3][1]);
+    for (int32_t s = g->cptr[x]; s < g->cptr[x + 1]; s++) {
+        const int32_t *u = g->C->conn + 3 * (int64_t)g->piece[g->cind[s] / 3];
+        int jj = g->cind[s] % 3;
+        const double *a = CX(g->r, u[jj]), *b = CX(g->r, u[(jj + 1) % 3]), *c = CX(g->r, u[(jj + 2) % 3]);
+        alt = fmin(alt, 2 * aug_orient2d(a, b, c) / hypot(c[0] - b[0], c[1] - b[1]));
+    }
+    double dx = cen[0] - p[j][0], dy = cen[1] - p[j][1], dl = hypot(dx, dy);
+    double wp[2] = {p[j][0] + 0.25 * alt * dx / dl, p[j][1] + 0.25 * alt * dy / dl};
+    double best = -1e-9;
+    for (int32_t s = g->cptr[x]; s < g->cptr[x + 1]; s++) {
+        const int32_t *u = g->C->conn + 3 * (int64_t)g->piece[g->cind[s] / 3];
+        double bm = bary(CX(g->r, u[0]), CX(g->r, u[1]), CX(g->r, u[2]), wp);
+        if (bm > best) best = bm, id = g->r->cnode[u[g->cind[s] % 3]];
+    }
+    return id;
+}
+
+/* original measure at point c: of the region triangle (before) holding it */
+static double origin_measure(const reg *g, const double *c)
+{
+    const grid *G = &g->G;
+    const aug_work *W = g->W;
+    int gi = (int)floor((c[0] - G->lo[0]) / G->h[0]), gj = (int)floor((c[1] - G->lo[1]) / G->h[1]);
+    gi = gi < 0 ? 0 : gi >= G->g ? G->g - 1 : gi;
+    gj = gj < 0 ? 0 : gj >= G->g ? G->g - 1 : gj;
+    int64_t cell = (int64_t)gi * G->g + gj;
+    double a0 = W->area0[g->F[0]], bb = -INFINITY;
+    for (int64_t s = G->ptr[cell]; s < G->ptr[cell + 1]; s++) {
+        int32_t u = G->ind[s];
+        if (!g->mark[u]) continue;
+        const int32_t *uv = W->m.conn + 3 * (int64_t)u;
+        double bm = bary(WX(W, uv[0]), WX(W, uv[1]), WX(W, uv[2]), c);
+        if (bm > bb) bb = bm, a0 = W->area0[u];
+    }
+    return a0;
+}
+
+/* the final triangles: corners mapped to work nodes, material, original measure */
+static int final_triangles(reg *g)
+{
+    g->fin = aug_malloc((size_t)(3 * g->cdt.nt + 1) * sizeof *g->fin);
+    g->ftag = aug_malloc((size_t)(g->cdt.nt + 1) * sizeof *g->ftag);
+    g->fa0 = aug_malloc((size_t)(g->cdt.nt + 1) * sizeof *g->fa0);
+    if (!g->fin || !g->ftag || !g->fa0) return NOMEM(g);
+    g->nfin = 0;
+    for (int32_t t = 0; t < g->cdt.nt; t++) {
+        const int32_t *v = g->cdt.tri + 3 * t;
         if (v[0] < 0) continue;
-        const double *p[3] = {cdt.xy + 2 * v[0], cdt.xy + 2 * v[1], cdt.xy + 2 * v[2]};
-        double cen[2] = {(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3};
+        const double *p[3] = {g->cdt.xy + 2 * v[0], g->cdt.xy + 2 * v[1], g->cdt.xy + 2 * v[2]};
         for (int j = 0; j < 3; j++) {
-            int32_t x = v[j], id = l2w[x];
-            if (cptr[x + 1] > cptr[x]) {
-                /* a point in t near corner j, within the pieces around it */
-                double alt = 2 * aug_orient2d(p[0], p[1], p[2]) /
-                             hypot(p[(j + 2) % 3][0] - p[(j + 1) % 3][0], p[(j + 2) % 3][1] - p[(j + 1) % 3][1]);
-                for (int32_t s = cptr[x]; s < cptr[x + 1]; s++) {
-                    const int32_t *u = C->conn + 3 * (int64_t)piece[cind[s] / 3];
-                    int jj = cind[s] % 3;
-                    const double *a = CX(r, u[jj]), *b = CX(r, u[(jj + 1) % 3]), *c = CX(r, u[(jj + 2) % 3]);
-                    alt = fmin(alt, 2 * aug_orient2d(a, b, c) / hypot(c[0] - b[0], c[1] - b[1]));
-                }
-                double dx = cen[0] - p[j][0], dy = cen[1] - p[j][1], dl = hypot(dx, dy);
-                double wp[2] = {p[j][0] + 0.25 * alt * dx / dl, p[j][1] + 0.25 * alt * dy / dl};
-                double best = -1e-9;
-                for (int32_t s = cptr[x]; s < cptr[x + 1]; s++) {
-                    const int32_t *u = C->conn + 3 * (int64_t)piece[cind[s] / 3];
-                    double bm = bary(CX(r, u[0]), CX(r, u[1]), CX(r, u[2]), wp);
-                    if (bm > best) best = bm, id = r->cnode[u[cind[s] % 3]];
-                }
-            }
-            if (id < 0) {
-                rc = aug_err_set(e, AUG_EDATA, -1, "MDLT", "step %d: corner without a node", step);
-                goto out;
-            }
-            fin[3 * nfin + j] = id;
+            int32_t id = corner_node(g, p, j, v[j]);
+            if (id < 0)
+                return aug_err_set(g->e, AUG_EDATA, -1, "MDLT", "step %d: corner without a node", g->d->step);
+            g->fin[3 * g->nfin + j] = id;
         }
-        ftag[nfin] = cdt.tag[t];
-        /* original measure: of the work triangle (before) holding the centroid */
-        double a0 = NAN, bb = -INFINITY;
-        int gi = (int)floor((cen[0] - G.lo[0]) / G.h[0]), gj = (int)floor((cen[1] - G.lo[1]) / G.h[1]);
-        gi = gi < 0 ? 0 : gi >= G.g ? G.g - 1 : gi;
-        gj = gj < 0 ? 0 : gj >= G.g ? G.g - 1 : gj;
-        int64_t c = (int64_t)gi * G.g + gj;
-        for (int64_t s = G.ptr[c]; s < G.ptr[c + 1]; s++) {
-            int32_t u = G.ind[s];
-            if (!mark[u]) continue;
-            const int32_t *uv = W->m.conn + 3 * (int64_t)u;
-            double bm = bary(WX(W, uv[0]), WX(W, uv[1]), WX(W, uv[2]), cen);
-            if (bm > bb) bb = bm, a0 = W->area0[u];
-        }
-        fa0[nfin] = isnan(a0) ? W->area0[F[0]] : a0;
-        nfin++;
+        double cen[2] = {(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3};
+        g->ftag[g->nfin] = g->cdt.tag[t];
+        g->fa0[g->nfin] = origin_measure(g, cen);
+        g->nfin++;
     }
+    return 0;
+}
 
-    /* fine nodes on a cut edge that the step separates get a copy on one side */
-    fcopy = aug_malloc((size_t)cdt.nv * sizeof *fcopy);
-    if (!fcopy) goto fail;
-    for (int32_t i = 0; i < cdt.nv; i++) fcopy[i] = -1;
-    for (size_t h = 0; h < done.cap; h++) {
-        if (done.key[h] == 0 || done.key[h] == UINT64_MAX) continue;
-        int32_t la = (int32_t)((done.key[h] - 1) >> 32), lb = (int32_t)((done.key[h] - 1) & 0xffffffffu);
-        if (aug_edgemap_get(&cdt.edges, la, lb)) continue; /* a single edge: no fine node on it */
-        const double *pa = cdt.xy + 2 * la, *pb = cdt.xy + 2 * lb;
+/* a fine node (one the cut does not know) on a cut edge that the step separates
+   gets a copy for one side: the side whose nodes at the edge's ends are the old
+   ones keeps it (else the side with the smaller pair) */
+static int separate_fine(reg *g)
+{
+    const aug_cdt *cdt = &g->cdt;
+    int32_t *fcopy = aug_malloc((size_t)cdt->nv * sizeof *fcopy);
+    if (!fcopy) return NOMEM(g);
+    for (int32_t i = 0; i < cdt->nv; i++) fcopy[i] = -1;
+    for (size_t h = 0; h < g->done.cap; h++) {
+        if (g->done.key[h] == 0 || g->done.key[h] == UINT64_MAX) continue;
+        int32_t la = (int32_t)((g->done.key[h] - 1) >> 32), lb = (int32_t)((g->done.key[h] - 1) & 0xffffffffu);
+        if (aug_edgemap_get(&cdt->edges, la, lb)) continue; /* a single edge: no fine node on it */
+        const double *pa = cdt->xy + 2 * la, *pb = cdt->xy + 2 * lb;
         double l2 = (pb[0] - pa[0]) * (pb[0] - pa[0]) + (pb[1] - pa[1]) * (pb[1] - pa[1]);
-        /* the two sides' nodes at the ends, from the final triangles touching the segment */
+        /* each side's nodes at the ends, from the final triangles along the segment */
         side_key sk[2] = {{0, 0, 0}, {0, 0, 0}};
         int32_t k = 0;
-        for (int32_t t = 0; t < cdt.nt; t++) {
-            const int32_t *v = cdt.tri + 3 * t;
+        for (int32_t t = 0; t < cdt->nt; t++) {
+            const int32_t *v = cdt->tri + 3 * t;
             if (v[0] < 0) continue;
-            int32_t *fv = fin + 3 * k++;
+            const int32_t *fv = g->fin + 3 * k++;
             for (int j = 0; j < 3; j++) {
                 if (v[j] != la && v[j] != lb) continue;
-                int32_t o1 = v[(j + 1) % 3], o2 = v[(j + 2) % 3];
-                /* an edge of t along the segment from this end */
                 for (int s = 0; s < 2; s++) {
-                    int32_t o = s ? o2 : o1, other = s ? o1 : o2;
-                    const double *po = cdt.xy + 2 * o;
+                    int32_t o = v[(j + 1 + s) % 3], other = v[(j + 2 - s) % 3];
+                    const double *po = cdt->xy + 2 * o;
                     double u = ((po[0] - pa[0]) * (pb[0] - pa[0]) + (po[1] - pa[1]) * (pb[1] - pa[1])) / l2;
                     double dd = fabs(aug_orient2d(pa, pb, po)) / sqrt(l2);
                     if (!(dd <= 1e-9 * sqrt(l2) && u > 1e-12 && u < 1 - 1e-12)) continue;
-                    if (!aug_cdt_is_fixed(&cdt, v[j], o)) continue;
-                    int sd = aug_orient2d(pa, pb, cdt.xy + 2 * other) > 0 ? 0 : 1;
+                    if (!aug_cdt_is_fixed(cdt, v[j], o)) continue;
+                    int sd = aug_orient2d(pa, pb, cdt->xy + 2 * other) > 0 ? 0 : 1;
                     sk[sd].present = 1;
                     if (v[j] == la) sk[sd].a = fv[j];
                     else sk[sd].b = fv[j];
@@ -472,100 +518,130 @@ int aug_refine_region2d(aug_refiner *r, const aug_mdelta *d, const int32_t *oldc
         }
         if (!sk[0].present || !sk[1].present || (sk[0].a == sk[1].a && sk[0].b == sk[1].b)) continue;
         int keep = 0;
-        if (sk[1].a == l2w[la] && sk[1].b == l2w[lb]) keep = 1;
-        else if (!(sk[0].a == l2w[la] && sk[0].b == l2w[lb]))
+        if (sk[1].a == g->l2w[la] && sk[1].b == g->l2w[lb]) keep = 1;
+        else if (!(sk[0].a == g->l2w[la] && sk[0].b == g->l2w[lb]))
             keep = (sk[1].a < sk[0].a || (sk[1].a == sk[0].a && sk[1].b < sk[0].b)) ? 1 : 0;
         k = 0;
-        for (int32_t t = 0; t < cdt.nt; t++) {
-            const int32_t *v = cdt.tri + 3 * t;
+        for (int32_t t = 0; t < cdt->nt; t++) {
+            const int32_t *v = cdt->tri + 3 * t;
             if (v[0] < 0) continue;
-            int32_t *fv = fin + 3 * k++;
-            const double *p[3] = {cdt.xy + 2 * v[0], cdt.xy + 2 * v[1], cdt.xy + 2 * v[2]};
+            int32_t *fv = g->fin + 3 * k++;
+            const double *p[3] = {cdt->xy + 2 * v[0], cdt->xy + 2 * v[1], cdt->xy + 2 * v[2]};
             double cen[2] = {(p[0][0] + p[1][0] + p[2][0]) / 3, (p[0][1] + p[1][1] + p[2][1]) / 3};
-            int sd = aug_orient2d(pa, pb, cen) > 0 ? 0 : 1;
-            if (sd == keep) continue;
+            if ((aug_orient2d(pa, pb, cen) > 0 ? 0 : 1) == keep) continue;
             for (int j = 0; j < 3; j++) {
                 int32_t x = v[j];
-                if (cptr[x + 1] > cptr[x] || x == la || x == lb) continue; /* not a fine node */
-                const double *px = cdt.xy + 2 * x;
+                if (g->cptr[x + 1] > g->cptr[x] || x == la || x == lb) continue; /* not a fine node */
+                const double *px = cdt->xy + 2 * x;
                 double u = ((px[0] - pa[0]) * (pb[0] - pa[0]) + (px[1] - pa[1]) * (pb[1] - pa[1])) / l2;
                 double dd = fabs(aug_orient2d(pa, pb, px)) / sqrt(l2);
                 if (!(dd <= 1e-9 * sqrt(l2) && u > 0 && u < 1)) continue;
-                if (fcopy[x] < 0) {
-                    fcopy[x] = aug_work_node(W, px, l2w[x]);
-                    if (fcopy[x] < 0) goto fail;
+                if (fcopy[x] < 0 && (fcopy[x] = aug_work_node(g->W, px, g->l2w[x])) < 0) {
+                    free(fcopy);
+                    return NOMEM(g);
                 }
                 fv[j] = fcopy[x];
             }
         }
     }
+    free(fcopy);
+    return 0;
+}
 
-    /* write back: the region's slots by material, then new elements */
-    for (int64_t k = 0; k < nF; k++)
-        if ((rc = aug_work_unlink(W, F[k]))) goto werr;
-    {
-        int64_t used = 0;
-        unsigned char *taken = aug_calloc((size_t)nfin + 1, 1);
-        if (!taken) goto fail;
-        for (int64_t k = 0; k < nF; k++) { /* each slot: the first unused triangle of its material */
-            int32_t mat = W->m.mat[F[k]], t = 0;
-            while (t < nfin && (taken[t] || ftag[t] != mat)) t++;
-            if (t == nfin) {
-                free(taken);
-                rc = aug_err_set(e, AUG_EDATA, -1, "MDLT",
-                                 "step %d: re-triangulation has fewer elements than it replaces",
-                                 step);
-                goto out;
-            }
-            taken[t] = 1;
-            used++;
-            W->area0[F[k]] = fa0[t];
-            if ((rc = aug_work_put(W, F[k], fin + 3 * t))) {
-                free(taken);
-                goto werr;
-            }
+/* the final triangles into the region's slots (by material), the rest appended;
+   constraints that stay interior are kept fixed; every element positive */
+static int write_back(reg *g)
+{
+    aug_work *W = g->W;
+    int rc;
+    unsigned char *taken = aug_calloc((size_t)g->nfin + 1, 1);
+    if (!taken) return NOMEM(g);
+    for (int64_t k = 0; k < g->nF; k++)
+        if ((rc = aug_work_unlink(W, g->F[k]))) goto fail;
+    for (int64_t k = 0; k < g->nF; k++) { /* each slot: the first unused triangle of its material */
+        int32_t mat = W->m.mat[g->F[k]], t = 0;
+        while (t < g->nfin && (taken[t] || g->ftag[t] != mat)) t++;
+        if (t == g->nfin) {
+            free(taken);
+            return aug_err_set(g->e, AUG_EDATA, -1, "MDLT",
+                               "step %d: re-triangulation has fewer elements than it replaces", g->d->step);
         }
-        for (int32_t t = 0; t < nfin; t++) {
-            if (taken[t]) continue;
-            if (aug_work_add(W, fin + 3 * t, ftag[t], fa0[t]) < 0) {
-                free(taken);
-                goto fail;
-            }
-        }
-        free(taken);
-        (void)used;
+        taken[t] = 1;
+        W->area0[g->F[k]] = g->fa0[t];
+        if ((rc = aug_work_put(W, g->F[k], g->fin + 3 * t))) goto fail;
     }
-    for (int64_t t = 0; t < W->m.ne; t++) /* every new element positive */
-        if (W->stamp[t] == W->step && !(aug_elem_measure(&W->m, t) > 0)) {
-            rc = aug_err_set(e, AUG_EDATA, -1, "MDLT", "step %d: re-triangulation made element %lld "
-                             "inverted or degenerate", step, (long long)t);
-            goto out;
+    for (int32_t t = 0; t < g->nfin; t++)
+        if (!taken[t] && aug_work_add(W, g->fin + 3 * t, g->ftag[t], g->fa0[t]) < 0) {
+            rc = AUG_ENOMEM;
+            goto fail;
         }
-    rc = 0;
-    goto out;
-werr:
-    if (rc != AUG_ENOMEM) {
-        rc = aug_err_set(e, rc, -1, "MDLT", "step %d: re-triangulation is not manifold", step);
+    free(taken);
+    for (size_t h = 0; h < g->cdt.fixed.cap; h++) {
+        if (g->cdt.fixed.key[h] == 0 || g->cdt.fixed.key[h] == UINT64_MAX) continue;
+        int32_t la = (int32_t)((g->cdt.fixed.key[h] - 1) >> 32);
+        int32_t lb = (int32_t)((g->cdt.fixed.key[h] - 1) & 0xffffffffu);
+        if (g->l2w[la] < 0 || g->l2w[lb] < 0) continue;
+        const int32_t *sl = aug_edgemap_get(&W->adj, g->l2w[la], g->l2w[lb]);
+        if (sl && sl[0] >= 0 && sl[1] >= 0 && !aug_edgemap_put(&W->fixed, g->l2w[la], g->l2w[lb]))
+            return NOMEM(g);
+    }
+    for (int64_t t = 0; t < W->m.ne; t++)
+        if (W->stamp[t] == W->step && !(aug_elem_measure(&W->m, t) > 0))
+            return aug_err_set(g->e, AUG_EDATA, -1, "MDLT",
+                               "step %d: re-triangulation made element %lld inverted or degenerate",
+                               g->d->step, (long long)t);
+    return 0;
+fail:
+    free(taken);
+    return rc == AUG_ENOMEM ? NOMEM(g)
+                            : aug_err_set(g->e, rc, -1, "MDLT", "step %d: re-triangulation is not manifold",
+                                          g->d->step);
+}
+
+int aug_refine_region2d(aug_refiner *r, const aug_mdelta *d, const int32_t *oldc, int64_t nnc,
+                        int64_t nec, const double *seg, int64_t nseg, aug_refine_q *q, aug_err *e)
+{
+    reg g;
+    memset(&g, 0, sizeof g);
+    g.r = r, g.W = &r->work, g.C = &r->cut, g.d = d, g.oldc = oldc, g.nnc = nnc, g.nec = nec;
+    g.seg = seg, g.nseg = nseg, g.e = e;
+    g.np = d->nmod + (g.C->ne - nec);
+    g.piece = aug_malloc((size_t)(g.np + 1) * sizeof *g.piece);
+    g.w2l = aug_malloc((size_t)(g.W->m.nn + 1) * sizeof *g.w2l);
+    g.mark = aug_calloc((size_t)g.W->m.ne + 1, 1);
+    g.F = aug_malloc((size_t)(g.W->m.ne + 1) * sizeof *g.F);
+    g.loc = aug_malloc((size_t)(g.C->nn + 1) * sizeof *g.loc);
+    g.firstp = aug_malloc((size_t)(d->nnew + 1) * sizeof *g.firstp);
+    int rc;
+    if (!g.piece || !g.w2l || !g.mark || !g.F || !g.loc || !g.firstp || aug_cdt_init(&g.cdt) ||
+        aug_edgemap_init(&g.done, 64) || grid_build(&g.G, g.W)) {
+        rc = NOMEM(&g);
         goto out;
     }
-fail:
-    rc = aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
+    for (int64_t i = 0; i < d->nmod; i++) g.piece[i] = d->elem[i];
+    for (int64_t i = nec; i < g.C->ne; i++) g.piece[d->nmod + i - nec] = (int32_t)i;
+    for (int64_t i = 0; i < g.W->m.nn; i++) g.w2l[i] = -1;
+    for (int64_t i = 0; i < g.C->nn; i++) g.loc[i] = -1;
+    if ((rc = find_region(&g, q)) || (rc = build_local(&g)) || (rc = insert_nodes(&g)) ||
+        (rc = recover_cuts(&g)) || (rc = new_nodes(&g)) || (rc = candidates(&g)) ||
+        (rc = final_triangles(&g)) || (rc = separate_fine(&g)))
+        goto out;
+    rc = write_back(&g);
 out:
-    free(piece);
-    free(w2l);
-    free(mark);
-    free(F);
-    free(loc);
-    free(firstp);
-    free(l2w);
-    free(cptr);
-    free(cind);
-    free(fin);
-    free(ftag);
-    free(fa0);
-    free(fcopy);
-    aug_edgemap_free(&done);
-    aug_cdt_free(&cdt);
-    grid_free(&G);
+    free(g.piece);
+    free(g.w2l);
+    free(g.mark);
+    free(g.F);
+    free(g.loc);
+    free(g.firstp);
+    free(g.l2w);
+    free(g.cptr);
+    free(g.cind);
+    free(g.fin);
+    free(g.ftag);
+    free(g.fa0);
+    aug_edgemap_free(&g.done);
+    aug_cdt_free(&g.cdt);
+    grid_free(&g.G);
     return rc;
 }

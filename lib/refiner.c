@@ -392,6 +392,11 @@ int aug_refine_bc_only(aug_refiner *r, int32_t step, const aug_bdelta *bc, aug_b
         aug_mdelta d0;
         aug_mdelta_init(&d0);
         d0.step = step;
+        /* empty arrays, not NULL: memcpy of zero bytes from NULL is undefined */
+        int32_t i0[1] = {0};
+        double x0[3] = {0, 0, 0};
+        d0.parent = d0.elem = d0.conn = d0.conn_add = d0.mat_add = i0;
+        d0.x = x0;
         if ((rc = aug_update_build_bc(&r->base, &d0, outbc, r->nn0, r->map0, r->nfree0, u, e)))
             return rc;
     }

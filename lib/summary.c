@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "aug_cut.h"
 #include "aug_stats.h"
 
 #define MAXTYPES 64 /* distinct record types listed; more are folded into "other" */
@@ -217,6 +218,20 @@ static int add_mdlt(aug_summary *s, const aug_rec *rec, aug_err *e)
     return rc;
 }
 
+/* constraints and loads changed by a step, applied after its MDLT */
+static int add_bdlt(aug_summary *s, const aug_rec *rec, aug_err *e)
+{
+    aug_bdelta b;
+    aug_bdelta_init(&b);
+    int rc = aug_read_bdelta(rec, &b, e);
+    if (!rc && rec->step <= s->limit) {
+        rc = aug_mesh_apply_bc(&s->mesh, &b, e);
+        if (rc) e->record = rec->index, memcpy(e->type, "BDLT", 5);
+    }
+    aug_bdelta_free(&b);
+    return rc;
+}
+
 static int add_updt(aug_summary *s, const aug_rec *rec, aug_err *e)
 {
     aug_update u;
@@ -344,6 +359,8 @@ int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e)
         rc = add_mdlt(s, rec, e);
     } else if (is(rec, "UPDT")) {
         rc = add_updt(s, rec, e);
+    } else if (is(rec, "BDLT")) {
+        rc = add_bdlt(s, rec, e);
     } else if (is(rec, "fELD")) {
         rc = add_feld(s, rec, e);
     } else if (is(rec, "pATH")) {

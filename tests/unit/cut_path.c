@@ -90,10 +90,13 @@ static int run_path(aug_mesh *m, const char *text, int mode, int steps, int poli
     for (int step = 1; step <= steps && !t_cur_failed; step++) {
         aug_cut_step S;
         aug_cut_step_init(&S, step);
+        aug_mesh before;
+        cc_mesh_copy(&before, m);
         double s_to = path.total * step / steps;
         if (aug_path_step(&pc, &C.ed, s_to, &S.seg, &S.nseg, &e) || aug_cutter_apply(&C, &S, &e)) {
             T_CHECK(0, "step %d: %s", step, e.msg);
             aug_cut_step_free(&S);
+            aug_mesh_free(&before);
             break;
         }
         int urc = aug_cutter_update(&C, &S, &e);
@@ -109,16 +112,27 @@ static int run_path(aug_mesh *m, const char *text, int mode, int steps, int poli
             free(U.K);
             res->error_step = step;
             aug_cut_step_free(&S);
+            aug_mesh_free(&before);
             break;
         }
         if (urc) {
             T_CHECK(0, "step %d: %s", step, e.msg);
             aug_cut_step_free(&S);
+            aug_mesh_free(&before);
             break;
         }
         res->flags |= S.d.flags;
+        /* the library entry aug_update_build_bc on the mesh before gives the same bytes */
+        aug_update u2;
+        T_CHECK(aug_update_build_bc(&before, &S.d, &S.bc, T.nn0, T.map0, T.nfree0, &u2, &e) == 0, "%s", e.msg);
+        int s2 = u2.m + u2.k;
+        T_CHECK(u2.m == S.u.m && u2.k == S.u.k && !memcmp(u2.H, S.u.H, (size_t)u2.m * 4) &&
+                    !memcmp(u2.E, S.u.E, (size_t)s2 * s2 * 8) && !memcmp(u2.df, S.u.df, (size_t)s2 * 8),
+                "step %d: aug_update_build_bc differs", step);
+        aug_update_free(&u2);
         T_CHECK(S.u.k == 2 * S.d.nnew, "step %d: k = %d for %lld new nodes", step, S.u.k,
                 (long long)S.d.nnew);
+        aug_mesh_free(&before);
         if (cc_apply(&T, &S.u) || cc_check(&T, m, &cm, step) || cc_check_angles(&T, m, step)) {
             T_CHECK(0, "%s", T.why);
             aug_cut_step_free(&S);
@@ -358,6 +372,46 @@ static void cut_out(void)
     }
 }
 
+/* the planar cut on the 2-D square (a line n.x = d): invariants at every step,
+   random nodes per step, the left part stays fixed, the right part's corner is
+   pinned when the line cuts it off */
+static void plane_2d(void)
+{
+    for (unsigned long seed = 1; seed <= 6 && !t_cur_failed; seed++) {
+        gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+        gsl_rng_set(r, seed);
+        aug_mesh m;
+        aug_err e;
+        cc_square(&m, 8, 8, 1, 1, r, 0.01);
+        cc_track T;
+        aug_cutter C;
+        if (cc_init(&T, &m, &cm)) T_CHECK(0, "%s", T.why);
+        aug_cutter_init(&C, &m, T.nn0, T.map0, T.nfree0, &e);
+        C.policy = AUG_DETACH_PIN;
+        C.pull = 0.02;
+        double a = M_PI * gsl_rng_uniform(r), n[3] = {cos(a), sin(a), 0};
+        double d = n[0] * (0.3 + 0.4 * gsl_rng_uniform(r)) + n[1] * (0.3 + 0.4 * gsl_rng_uniform(r));
+        aug_plane_cut pc;
+        T_CHECK(aug_plane_plan(&pc, &m, &C.adj, n, d, NULL, &e) == 0, "%s", e.msg);
+        for (int step = 1; pc.next < pc.ncut && !t_cur_failed; step++) {
+            aug_cut_step S;
+            aug_cut_step_init(&S, step);
+            T_CHECK(aug_plane_step(&pc, &C.ed, 1 + (int64_t)gsl_rng_uniform_int(r, 3), &S.seg, &S.nseg, &e) == 0 &&
+                        aug_cutter_apply(&C, &S, &e) == 0 && aug_cutter_update(&C, &S, &e) == 0,
+                    "step %d: %s", step, e.msg);
+            if (!t_cur_failed && (cc_apply(&T, &S.u) || cc_check(&T, &m, &cm, step) || cc_check_angles(&T, &m, step)))
+                T_CHECK(0, "seed %lu: %s", seed, T.why);
+            T_CHECK(segs_are_edges(&m, S.seg, S.nseg), "step %d: a segment is no mesh edge", step);
+            aug_cut_step_free(&S);
+        }
+        aug_plane_free(&pc);
+        aug_cutter_free(&C);
+        cc_free(&T);
+        aug_mesh_free(&m);
+        gsl_rng_free(r);
+    }
+}
+
 int main(void)
 {
     aug_cholmod_start(&cm);
@@ -367,6 +421,7 @@ int main(void)
     T_RUN(split_random);
     T_RUN(snap_random);
     T_RUN(cut_out);
+    T_RUN(plane_2d);
     cholmod_finish(&cm);
     T_EXIT();
 }

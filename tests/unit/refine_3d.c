@@ -270,6 +270,10 @@ static void jittered(void)
     aug_mdelta d, out;
     aug_mdelta_init(&d);
     d.step = 1;
+    d.parent = malloc(sizeof *d.parent); /* empty, not NULL */
+    d.x = malloc(3 * sizeof *d.x);
+    d.conn_add = malloc(4 * sizeof *d.conn_add);
+    d.mat_add = malloc(sizeof *d.mat_add);
     d.nmod = C.ne;
     d.elem = malloc((size_t)C.ne * sizeof *d.elem);
     d.conn = malloc((size_t)C.ne * 4 * sizeof *d.conn);

@@ -105,6 +105,7 @@ static inline void poly_flower(gen_poly *g, const double c[2], double r0, double
 }
 
 /* ---- the split-mode cutter ---- */
+static int gen_separate = 1; /* 0: split only, the cut edges stay shared (no copies) */
 typedef struct gen_cross {
     int32_t a, b;   /* edge (a < b) */
     double u;       /* position on a->b */
@@ -243,7 +244,7 @@ static inline int gen_cut(const aug_mesh *m, const gen_poly *g, int32_t step, au
         nnew++;
     }
     int32_t copy0 = (int32_t)(nn + nnew);
-    for (int i = 0; i < nx; i++) {
+    for (int i = 0; i < nx && gen_separate; i++) {
         par[nnew] = X[i].node;
         xn[2 * nnew] = X[i].x[0], xn[2 * nnew + 1] = X[i].x[1];
         nnew++;
@@ -319,7 +320,7 @@ static inline int gen_cut(const aug_mesh *m, const gen_poly *g, int32_t step, au
                 cx += x[0] / 3, cy += x[1] / 3;
             }
             double c[2] = {cx, cy};
-            if (aug_orient2d(csx, cex, c) < 0)
+            if (gen_separate && aug_orient2d(csx, cex, c) < 0)
                 for (int j = 0; j < 3; j++) {
                     int32_t n = pc[k][j];
                     if (n >= nn && n < nn + nx) pc[k][j] = copy0 + (n - (int32_t)nn);

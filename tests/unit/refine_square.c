@@ -2,8 +2,11 @@
    patterns (thesis 003, fig. 5.1, 5.9): a single cubic Bezier cut, intersecting
    cuts, a flower punch of rational quadratic arcs, many cuts, and a path passing
    1e-9 from a vertex. After every pattern: conformity, the cut segments as mesh
-   edges, no triangle above aspect 3 (except in corners too sharp for any
-   triangle), total area, and the downstream mesh equal to the refiner's. */
+   edges on both sides, no triangle above aspect 3 (except in corners too sharp
+   for any triangle), total area, and the downstream mesh equal to the refiner's.
+   Also: determinism, constraints following the parent rule at the fixed edge,
+   --area-ratio, --min-angle, a cut that does not separate (its edges stay
+   fixed), and a cut across a material interface. */
 #include <gsl/gsl_rng.h>
 #include <math.h>
 #include <string.h>
@@ -245,6 +248,184 @@ static void deterministic(void)
     aug_mdelta_free(&out[1]);
 }
 
+/* a cut through the fixed bottom edge: every node on y = 0 (old and refinement
+   midpoints) is fixed in both components, every other node refine made is free
+   (midpoints and centroids take the parent with the fewest constraints; the
+   cut's own nodes keep the cut's parents and are not checked) */
+static void constraints_follow_parents(void)
+{
+    run s;
+    run_init(&s, 50);
+    gen_poly g = {0};
+    double P[4][2] = {{0.3, -0.05}, {0.35, 0.1}, {0.55, 0.05}, {0.62, 0.27}};
+    poly_cubic(&g, P, 200);
+    char why[300];
+    T_CHECK(run_step(&s, &g, why, sizeof why) == 0, "%.300s", why);
+    check_run(&s, "bottom");
+    unsigned char *fx = calloc((size_t)s.D.nn * 2, 1), *cutn = calloc((size_t)s.D.nn, 1);
+    for (int64_t i = 0; i < s.D.nfix; i++) fx[s.D.fix_dof[i]] = 1;
+    for (int64_t c = 2500; c < s.C.nn; c++)
+        if (s.R.cnode[c] >= 0) cutn[s.R.cnode[c]] = 1;
+    int64_t wrong = 0;
+    for (int64_t i = 0; i < s.D.nn; i++) {
+        if (cutn[i]) continue;
+        int on = s.D.x[2 * i + 1] == 0;
+        if (fx[2 * i] != on || fx[2 * i + 1] != on) {
+            if (wrong < 4) printf("# node %lld at (%.17g, %.17g): fixed %d %d\n", (long long)i, s.D.x[2 * i], s.D.x[2 * i + 1], fx[2 * i], fx[2 * i + 1]);
+            wrong++;
+        }
+    }
+    T_CHECK(wrong == 0, "%lld nodes with constraints that do not match y = 0", (long long)wrong);
+    T_CHECK(s.added > s.cut_added, "no refinement near the boundary");
+    free(fx);
+    free(cutn);
+    free(g.p);
+    run_free(&s);
+}
+
+/* --area-ratio: refinement stops at elements smaller than R times their
+   original; fewer elements, and every triangle still above the bound is small */
+static void area_ratio_criterion(void)
+{
+    run s[2];
+    int64_t added[2];
+    for (int k = 0; k < 2; k++) {
+        memset(&s[k], 0, sizeof s[k]);
+        gen_square(&s[k].C, 50);
+        gen_square(&s[k].D, 50);
+        aug_refine_opt o;
+        aug_refine_opt_default(&o);
+        o.area_ratio = k ? 0.03 : 0;
+        aug_err e;
+        aug_refiner_init(&s[k].R, &s[k].C, &o, &e);
+        gen_poly g = {0};
+        double c[2] = {0.503, 0.497};
+        poly_flower(&g, c, 0.2, 0.31, 5, 0.1);
+        char why[300];
+        T_CHECK(run_step(&s[k], &g, why, sizeof why) == 0, "%.300s", why);
+        added[k] = s[k].added;
+        free(g.p);
+    }
+    T_CHECK(added[1] < added[0], "area ratio 0.03 added %lld, none %lld", (long long)added[1], (long long)added[0]);
+    int64_t big = 0;
+    for (int64_t t = 0; t < s[1].R.work.m.ne; t++) {
+        aug_quality q;
+        aug_elem_quality(&s[1].R.work.m, t, &q);
+        if (q.aspect > 3 * (1 + 1e-9) && q.measure > 0.03 * s[1].R.work.area0[t]) big++;
+    }
+    T_CHECK(big == 0, "%lld triangles above the bound and the area ratio", (long long)big);
+    printf("# area ratio 0.03: %lld elements added, none: %lld\n", (long long)added[1], (long long)added[0]);
+    run_free(&s[0]);
+    run_free(&s[1]);
+}
+
+/* --min-angle 20: no angle below 20 degrees after refine (the cut's corners here
+   are all wider) */
+static void min_angle_criterion(void)
+{
+    run s;
+    memset(&s, 0, sizeof s);
+    gen_square(&s.C, 50);
+    gen_square(&s.D, 50);
+    aug_refine_opt o;
+    aug_refine_opt_default(&o);
+    o.min_angle = 20;
+    aug_err e;
+    aug_refiner_init(&s.R, &s.C, &o, &e);
+    gen_poly g = {0};
+    double P[4][2] = {{0.2, 0.31}, {0.43, 0.93}, {0.61, 0.07}, {0.83, 0.71}};
+    poly_cubic(&g, P, 300);
+    char why[300];
+    T_CHECK(run_step(&s, &g, why, sizeof why) == 0, "%.300s", why);
+    check_run(&s, "min-angle");
+    double amin = 180;
+    for (int64_t t = 0; t < s.D.ne; t++) {
+        aug_quality q;
+        aug_elem_quality(&s.D, t, &q);
+        amin = fmin(amin, q.min_angle);
+    }
+    T_CHECK(amin >= 20 - 1e-9, "smallest angle %.3g", amin);
+    T_CHECK(s.last.bad_left == 0 && s.last.capped == 0, "bad left %lld, capped %lld",
+            (long long)s.last.bad_left, (long long)s.last.capped);
+    printf("# min angle 20: smallest %.2f, %lld added\n", amin, (long long)s.added);
+    free(g.p);
+    run_free(&s);
+}
+
+/* a cut that splits without separating: its edges are interior constraints that
+   bisection and flips must keep (fixed edges of the refined mesh) */
+static void cut_without_separation(void)
+{
+    gen_separate = 0;
+    run s;
+    run_init(&s, 50);
+    gen_poly g = {0};
+    double A[4][2] = {{0.15, 0.52}, {0.4, 0.2}, {0.6, 0.85}, {0.86, 0.47}};
+    double B[4][2] = {{0.48, 0.13}, {0.75, 0.42}, {0.25, 0.6}, {0.53, 0.88}};
+    poly_cubic(&g, A, 300);
+    char why[300];
+    T_CHECK(run_step(&s, &g, why, sizeof why) == 0, "%.300s", why);
+    free(g.p);
+    memset(&g, 0, sizeof g);
+    poly_cubic(&g, B, 300);
+    T_CHECK(run_step(&s, &g, why, sizeof why) == 0, "%.300s", why);
+    check_run(&s, "unseparated");
+    int64_t open = 0;
+    for (size_t h = 0; h < s.R.work.adj.cap; h++)
+        if (s.R.work.adj.key[h] && s.R.work.adj.key[h] != UINT64_MAX &&
+            (s.R.work.adj.val[2 * h] < 0 || s.R.work.adj.val[2 * h + 1] < 0))
+            open++;
+    T_CHECK(open == 196, "%lld open edges, the square has 196", (long long)open);
+    T_CHECK(s.R.work.fixed.n > 0, "no fixed edges kept");
+    free(g.p);
+    run_free(&s);
+    gen_separate = 1;
+}
+
+/* two materials (x < 0.5 and x > 0.5): a cut across the interface; every
+   triangle keeps the material of where it lies (interfaces are fixed edges) */
+static void material_interface(void)
+{
+    run s;
+    run_init(&s, 50);
+    for (int k = 0; k < 2; k++) {
+        aug_mesh *m = k ? &s.D : &s.C;
+        m->mats = realloc(m->mats, 2 * sizeof *m->mats);
+        m->mats[1] = m->mats[0];
+        m->mats[1].id = 6, m->mats[1].E = 5000;
+        m->nmat = 2;
+        for (int64_t t = 0; t < m->ne; t++) {
+            const int32_t *v = m->conn + 3 * t;
+            double cx = (m->x[2 * v[0]] + m->x[2 * v[1]] + m->x[2 * v[2]]) / 3;
+            m->mat[t] = cx < 0.5;
+        }
+    }
+    aug_refiner_free(&s.R);
+    aug_err e;
+    T_CHECK(aug_refiner_init(&s.R, &s.C, NULL, &e) == 0, "init %s", e.msg);
+    gen_poly g = {0};
+    double P[4][2] = {{0.2, 0.3}, {0.45, 0.55}, {0.55, 0.45}, {0.81, 0.7}};
+    poly_cubic(&g, P, 200);
+    char why[300];
+    T_CHECK(run_step(&s, &g, why, sizeof why) == 0, "%.300s", why);
+    check_run(&s, "materials");
+    /* the material of the original triangle holding each centroid (50 x 50 grid:
+       the cell, then the side of its diagonal) */
+    int64_t wrong = 0;
+    for (int64_t t = 0; t < s.D.ne; t++) {
+        const int32_t *v = s.D.conn + 3 * t;
+        double cx = (s.D.x[2 * v[0]] + s.D.x[2 * v[1]] + s.D.x[2 * v[2]]) / 3;
+        double cy = (s.D.x[2 * v[0] + 1] + s.D.x[2 * v[1] + 1] + s.D.x[2 * v[2] + 1]) / 3;
+        int i = (int)(cx * 49), j = (int)(cy * 49);
+        double u = cx * 49 - i, w = cy * 49 - j;
+        int64_t orig = 2 * ((int64_t)j * 49 + i) + (w > u); /* (a,b,c) below the diagonal, (a,c,d) above */
+        wrong += s.D.mat[t] != s.C.mat[orig];
+    }
+    T_CHECK(wrong == 0, "%lld triangles with the other side's material", (long long)wrong);
+    free(g.p);
+    run_free(&s);
+}
+
 int main(void)
 {
     T_RUN(single_bezier);
@@ -253,5 +434,10 @@ int main(void)
     T_RUN(many_cuts);
     T_RUN(near_vertex);
     T_RUN(deterministic);
+    T_RUN(constraints_follow_parents);
+    T_RUN(area_ratio_criterion);
+    T_RUN(min_angle_criterion);
+    T_RUN(cut_without_separation);
+    T_RUN(material_interface);
     T_EXIT();
 }
