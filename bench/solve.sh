@@ -17,16 +17,27 @@ for sc in $SCENES; do
     [ -f $S/$sc.msh ] || { echo "solve.sh: $S/$sc.msh missing, skipped" >&2; continue; }
     case $sc in beam*) load="tip:0,1e-3,0";; *) load="top:0,0,-1";; esac
     case $sc in beam*) plane="0,1,0,2";; *) plane="1,0,0,0.5";; esac
-    $B/meshload $S/$sc.msh --fix fixed --load $load | $B/factor > $O/.f.aug || { echo "solve.sh: $sc: factor failed" >&2; continue; }
-    $B/cut --plane $plane --steps $STEPS --pull 0.1 < $O/.f.aug > $O/.c.aug || { echo "solve.sh: $sc: cut failed" >&2; continue; }
-    $B/solve-aug --method $METHODS --tol 1e-8 --maxit 20000 --on-singular report < $O/.c.aug 2>$O/solve_$sc.err |
+    # the papers' experiment: one node duplicated per step, the cut entering at
+    # the free end (top) and advancing towards the fixed face
+    steps=$STEPS; maxit=20000
+    case $sc in beam_h1024) steps=$((STEPS < 16 ? STEPS : 16)); maxit=2000;; esac
+    [ -f build/scenes/$sc.msh ] || make -s build/scenes/$sc.msh > /dev/null
+    $B/meshload $S/$sc.msh --fix fixed --load $load | $B/factor --no-cond > $O/.f.aug || { echo "solve.sh: $sc: factor failed" >&2; continue; }
+    $B/cut --plane $plane --advance 0,0,-1 --per-step 1 --steps $steps --pull 0.1 < $O/.f.aug > $O/.c.aug || { echo "solve.sh: $sc: cut failed" >&2; continue; }
+    $B/solve-aug --method $METHODS --tol 1e-8 --maxit $maxit --on-singular report < $O/.c.aug 2>$O/solve_$sc.err |
         $B/stats --csv > $O/solve_$sc.csv || { echo "solve.sh: $sc: solve-aug failed" >&2; continue; }
-    python3 - $O/solve_$sc.csv $sc $O/solve_summary.csv <<'PY'
+    # AMPS again with background re-factorization (paper 000 sec. 3.6), as method amps_bg
+    $B/solve-aug --method amps --background < $O/.c.aug 2>>$O/solve_$sc.err | $B/stats --csv |
+        sed '2,$ s/,amps,/,amps_bg,/' > $O/solve_${sc}_bg.csv
+    python3 - $O/solve_$sc.csv $sc $O/solve_summary.csv $O/solve_${sc}_bg.csv <<'PY'
 import csv, statistics, sys, math
 rows = list(csv.DictReader(open(sys.argv[1])))
+try: rows += [r for r in csv.DictReader(open(sys.argv[4])) if r["method"] == "amps_bg"]
+except OSError: pass
 sc, out = sys.argv[2], open(sys.argv[3], "a")
-full = [float(r["solve_ms"]) for r in rows if r["method"] == "factor" and r.get("solve_ms")]
-full = full[0] if full else float("nan")
+# one full CHOLMOD solve with the same factor, timed by solve-aug in the same run
+full = [float(r["full_solve_ms"]) for r in rows if r["method"] == "amps" and r.get("full_solve_ms")]
+full = statistics.median(full) if full else float("nan")
 n = next((r["n"] for r in rows if r["method"] == "factor"), "")
 def f(r, k):
     try: return float(r[k])
@@ -45,13 +56,13 @@ for m, rs in by.items():
               statistics.median(it), int(max(cl)) if cl else ""))
 PY
     if command -v gnuplot > /dev/null; then
-        for m in $(echo $METHODS | tr , ' '); do
-            awk -F, -v m=$m 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+        for m in $(echo $METHODS,amps_bg | tr , ' '); do
+            awk -F, -v m=$m 'FNR == 1 { delete c; for (i = 1; i <= NF; i++) c[$i] = i; next }
                 $c["method"] == m { print $c["step"], 1000 / $c["time_ms"], $c["relres"], $c["iters"] }' \
-                $O/solve_$sc.csv > $O/.solve_$sc.$m.dat
+                $O/solve_$sc.csv $O/solve_${sc}_bg.csv > $O/.solve_$sc.$m.dat
         done
         plots=""; rplots=""
-        for m in $(echo $METHODS | tr , ' '); do
+        for m in $(echo $METHODS,amps_bg | tr , ' '); do
             plots="$plots${plots:+, }'$O/.solve_$sc.$m.dat' using 1:2 with linespoints title '$m'"
             rplots="$rplots${rplots:+, }'$O/.solve_$sc.$m.dat' using 1:3 with linespoints title '$m'"
         done

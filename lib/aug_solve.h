@@ -339,6 +339,10 @@ int64_t aug_solver_n(const aug_solver *s);
 const double *aug_solver_field(const aug_solver *s, int method);
 const aug_kv *aug_solver_stat(const aug_solver *s, int method);
 const aug_kv *aug_solver_time(const aug_solver *s, int method);
+/* Median wall time (ms) of `reps` full solves K_b^-1 f_b with the current base
+   factor (supernodal when the base has one): the unit the per-step times of
+   the methods are compared with, measured in the same process. */
+double aug_solver_full_solve_ms(aug_solver *s, int reps);
 int aug_solver_singular(const aug_solver *s, int method);
 int aug_solver_converged(const aug_solver *s, int method);
 /* f_t of the current step (length n). */

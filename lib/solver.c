@@ -155,6 +155,43 @@ int64_t aug_solver_n(const aug_solver *s) { return s->cut.cum.n; }
 const double *aug_solver_field(const aug_solver *s, int m) { return s->field[m]; }
 const aug_kv *aug_solver_stat(const aug_solver *s, int m) { return &s->stat[m]; }
 const aug_kv *aug_solver_time(const aug_solver *s, int m) { return &s->time[m]; }
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double aug_solver_full_solve_ms(aug_solver *s, int reps)
+{
+    const aug_base *b = s->base;
+    double t[16], *x = aug_malloc((size_t)(b->n + 1) * sizeof *x);
+    double *w = aug_malloc((size_t)(b->n + 1) * sizeof *w);
+    cholmod_dense *B = NULL;
+    if (reps > 16) reps = 16;
+    if (!x || !w) reps = 0;
+    if (b->Ls) {
+        B = cholmod_allocate_dense((size_t)b->n, 1, (size_t)b->n, CHOLMOD_REAL, s->cm);
+        if (!B) reps = 0;
+        else memcpy(B->x, b->a, (size_t)b->n * sizeof *x); /* any right-hand side */
+    }
+    for (int r = 0; r < reps; r++) {
+        double t0 = aug_wall_ms();
+        if (B) {
+            cholmod_dense *X = cholmod_solve(CHOLMOD_A, b->Ls, B, s->cm);
+            if (X) cholmod_free_dense(&X, s->cm);
+        } else {
+            aug_ldl_solve_full(b, b->a, x, w);
+        }
+        t[r] = aug_wall_ms() - t0;
+    }
+    if (B) cholmod_free_dense(&B, s->cm);
+    free(x);
+    free(w);
+    if (reps == 0) return NAN;
+    qsort(t, (size_t)reps, sizeof *t, cmp_double);
+    return reps % 2 ? t[reps / 2] : 0.5 * (t[reps / 2 - 1] + t[reps / 2]);
+}
 int aug_solver_singular(const aug_solver *s, int m) { return s->singular[m]; }
 int aug_solver_converged(const aug_solver *s, int m) { return s->converged[m]; }
 const double *aug_solver_rhs(const aug_solver *s) { return s->f; }
