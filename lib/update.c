@@ -215,7 +215,7 @@ int aug_mesh_apply(aug_mesh *m, const aug_mdelta *d, aug_err *e)
     double *x = aug_realloc(m->x, (size_t)(nn1 * dim) * sizeof(double));
     if (!x) goto nomem;
     m->x = x;
-    memcpy(x + nn0 * dim, d->x, (size_t)(d->nnew * dim) * sizeof(double));
+    if (d->nnew) memcpy(x + nn0 * dim, d->x, (size_t)(d->nnew * dim) * sizeof(double));
     m->nn = nn1;
     for (int64_t i = 0; i < d->nmod; i++)
         memcpy(m->conn + (size_t)d->elem[i] * nv, d->conn + i * nv, (size_t)nv * 4);
