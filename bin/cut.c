@@ -12,7 +12,7 @@
 static const char *synopsis =
     "cut [FILE] (--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--per-step K] [--seed S]\n"
     "           | --path PFILE [--mode split|snap] [--snap-tol T])\n"
-    "           --steps N [--pull F] [--detached error|pin|drop]\n"
+    "           --steps N [--pull F] [--detached error|pin|drop|keep]\n"
     "           [--constrain SET|box:LO,HI[=u,v[,w]][@S]]... [--stats] [--deflate] [-h]";
 
 static const char *help =
@@ -27,7 +27,8 @@ static const char *help =
     "  --snap-tol T         split mode: snap to a node within T of an edge (default 0.05)\n"
     "  --steps N            number of cut steps (N >= 1)\n"
     "  --pull F             opposing forces F on each node copy and its original\n"
-    "  --detached POLICY    piece without Dirichlet support: error (default), pin, drop\n"
+    "  --detached POLICY    piece without Dirichlet support: error (default), pin, drop,\n"
+    "                       keep (write the singular step, flagged, for solvers)\n"
     "  --constrain SPEC     fix the nodes of a set or box:x0,y0,z0,x1,y1,z1 (2-D: 4\n"
     "                       numbers) to 0 or =u,v[,w], at step @S (default 1)\n"
     "  --seed S             random generator seed of --plane random (default 1)\n"
@@ -148,7 +149,8 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
             if (v && !strcmp(v, "error")) o->policy = AUG_DETACH_ERROR;
             else if (v && !strcmp(v, "pin")) o->policy = AUG_DETACH_PIN;
             else if (v && !strcmp(v, "drop")) o->policy = AUG_DETACH_DROP;
-            else aug_tool_usage(t, "--detached needs error, pin or drop");
+            else if (v && !strcmp(v, "keep")) o->policy = AUG_DETACH_KEEP;
+            else aug_tool_usage(t, "--detached needs error, pin, drop or keep");
             i += v != NULL;
         } else if (!strcmp(a, "--constrain")) {
             constraint c;

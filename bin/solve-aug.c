@@ -22,7 +22,12 @@ static const char *help =
     "  --background         re-factor in a background thread, swap when done (amps, gmres)\n"
     "  --bg-lag N           swap exactly N steps after each start (deterministic)\n"
     "  --output all|surface|SET  nodes whose displacement is solved and written\n"
-    "  --refine-iter N      iterative refinement steps per solve (default 0)\n"
+    "  --refine-iter N      exactly N iterative refinement steps per solve (default 0:\n"
+    "                       adaptive, see --refine-tol)\n"
+    "  --refine-tol R       direct methods refine while relres > R, at most 3 steps,\n"
+    "                       each halving it (default 1e-8; 0: never)\n"
+    "  --fail-tol F         a direct method whose relres stays above F reports the\n"
+    "                       step singular (default 1e-6)\n"
     "  --tol T              relative tolerance of gmres and pcg (default 1e-8)\n"
     "  --maxit N            iteration cap of gmres and pcg (default 10000)\n"
     "  --gmres-prec P       none, D or spai (default D)\n"
@@ -70,6 +75,11 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         } else if (!strcmp(a, "--refine-iter")) {
             if (!v || aug_parse_long(v, &n) || n < 0 || n > 100) aug_tool_usage(t, "--refine-iter needs 0 to 100");
             else o->so.refine_iter = (int)n;
+            i += v != NULL;
+        } else if (!strcmp(a, "--refine-tol") || !strcmp(a, "--fail-tol")) {
+            if (!v || aug_parse_double(v, &d) || !(d >= 0 && d < 1)) aug_tool_usage(t, "%s needs a number in [0, 1)", a);
+            else if (a[2] == 'r') o->so.refine_tol = d, o->so.refine_max = d > 0 ? 3 : 0;
+            else o->so.fail_tol = d;
             i += v != NULL;
         } else if (!strcmp(a, "--tol")) {
             if (!v || aug_parse_double(v, &d) || !(d > 0 && d < 1)) aug_tool_usage(t, "--tol needs a number in (0, 1)");

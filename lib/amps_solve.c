@@ -168,22 +168,27 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
 }
 
 int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
-                           const double *r, double *x, aug_err *e)
+                           const double *r, double *x, cholmod_common *cm, aug_err *e)
 {
     if (scratch(a, b, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     const aug_schur *s = &a->schur;
     double *xa = a->x, *wp = a->w, *y = a->y;
-    double *work = aug_malloc((size_t)(b->n + 1) * sizeof *work);
-    if (!work) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-    /* x = Kbar^-1 r; a2 = S2^-1 Hbar'x; x += Kbar^-1 Hbar Ebar a2 */
-    aug_ldl_solve_full(b, r, x, work);
-    free(work);
+    /* x = Kbar^-1 r: permute, L^-1 and D^-1 column by column, L^-T through
+       the supernodal factor when there is one */
+    for (int64_t k = 0; k < b->n; k++) y[k] = r[b->perm[k]];
+    aug_ldl_lsolve(b, NULL, 0, y);
+    aug_ldl_dsolve(b, NULL, 0, y);
+    if (aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm))
+        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
+    for (int64_t k = 0; k < b->n; k++) x[b->perm[k]] = y[k];
     for (int64_t i = c->nb; i < c->n; i++) x[i] = r[i];
+    /* a2 = S2^-1 Hbar'x; x += Kbar^-1 Hbar Ebar a2 */
     for (int64_t aq = 0; aq < s->na; aq++) xa[aq] = x[c->S[s->A[aq]]];
     aug_schur_solve(s, xa);
     ebar_times(a, c, xa, wp);
     v_times(a, b, wp, y);
-    aug_ldl_ltsolve(b, NULL, 0, y);
+    if (aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm))
+        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
     for (int64_t i = 0; i < c->nb; i++) x[i] += y[b->pinv[i]];
     for (int64_t p = 0; p < c->ns; p++)
         if (c->S[p] >= c->nb) x[c->S[p]] += wp[p];

@@ -281,7 +281,9 @@ int aug_cut_pull(const aug_mesh *m, const aug_adj *adj, const aug_mdelta *d, dou
                  const double *dir, aug_bdelta *b, aug_err *e);
 
 /* ---- One cut step: edit -> MDLT, BDLT, UPDT, pATH (bin/cut.c and the tests) ---- */
-enum { AUG_DETACH_ERROR = 0, AUG_DETACH_PIN = 1, AUG_DETACH_DROP = 2 };
+/* keep: write the step as it is, flagged AUG_STEP_DETACHED (K_t singular),
+   for solvers to report */
+enum { AUG_DETACH_ERROR = 0, AUG_DETACH_PIN = 1, AUG_DETACH_DROP = 2, AUG_DETACH_KEEP = 3 };
 typedef struct aug_cutter {
     aug_mesh *m;                 /* the current mesh (updated by every step) */
     aug_adj adj;

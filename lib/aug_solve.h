@@ -219,7 +219,7 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
 /* Solve K_t x = r for a general r with the current factorization (used by
    iterative refinement; full vectors). */
 int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
-                           const double *r, double *x, aug_err *e);
+                           const double *r, double *x, cholmod_common *cm, aug_err *e);
 
 /* ---- unsymmetric augmented GMRES (gmres_aug.c, paper 000) -------------- */
 
@@ -313,7 +313,10 @@ typedef struct aug_solver_opts {
     double tol;          /* iterative methods */
     int maxit;           /* pcg / gmres iteration cap */
     int restart;         /* gmres restart */
-    int refine_iter;
+    int refine_iter;     /* > 0: exactly this many refinement steps */
+    double refine_tol;   /* refine_iter = 0: refine while relres > refine_tol ... */
+    int refine_max;      /* ... at most this many steps, while each halves relres */
+    double fail_tol;     /* a direct method whose relres stays above this failed */
     int check;           /* err_direct against a fresh CHOLMOD solve */
     int background;      /* background re-factorization for amps/gmres */
     int bg_lag;          /* > 0: swap exactly bg_lag steps after the start (deterministic) */

@@ -107,6 +107,7 @@ void aug_rec_free(aug_rec *rec);             /* frees buffers, not rec itself */
    deflate_min: payloads at least this long are deflated (0: never). */
 aug_writer *aug_writer_open(FILE *f, const char *producer, aug_err *e);
 void aug_writer_deflate(aug_writer *w, uint64_t deflate_min);
+uint64_t aug_writer_deflate_min(const aug_writer *w);
 /* Write one record with the given payload. */
 int aug_write(aug_writer *w, const char *type, int32_t step, const void *payload,
               uint64_t len, aug_err *e);

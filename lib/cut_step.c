@@ -98,6 +98,7 @@ int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e)
             s->bad_size = pp->size[id];
             s->d.flags |= AUG_STEP_DETACHED;
         }
+        if (c->policy == AUG_DETACH_KEEP) break;
         if (c->policy == AUG_DETACH_ERROR || round > pp->np) {
             aug_err_set(e, AUG_ESINGULAR, -1, "MDLT",
                         "step %d: the piece of %lld elements holding element %d has no Dirichlet "

@@ -87,6 +87,23 @@ static int write_simplicial(aug_writer *w, const cholmod_factor *S, aug_err *e)
     return finish(w, &b, e);
 }
 
+/* Where write_supernodal puts the payload: a buffer (deflated records) or
+   straight to the stream in parts (no copy of 10^8 bytes). */
+typedef struct sink {
+    aug_writer *w;
+    aug_buf b;
+    int stream, rc;
+    aug_err *e;
+} sink;
+
+static void sink_put(sink *k, const void *p, size_t n, size_t size)
+{
+    if (k->rc) return;
+    if (k->stream) k->rc = aug_write_part(k->w, p, n, size, k->e);
+    else if (size == 4) aug_buf_i32v(&k->b, p, n);
+    else aug_buf_i64v(&k->b, p, n); /* 8-byte elements, byte order only */
+}
+
 /* Supernodal LL' written as LDL' without converting L: column j = k1 + jj of
    supernode s holds rows Ls[pi + jj ..] and values Lx[px + jj*nsrow + jj ..];
    D(j,j) = L(j,j)^2 and L_ldl(i,j) = L(i,j) / L(j,j) (what cholmod_change_factor
@@ -99,7 +116,11 @@ static int write_supernodal(aug_writer *w, const cholmod_factor *L, aug_err *e)
     const int *Super = L->super, *Lpi = L->pi, *Lpx = L->px, *Ls = L->s;
     const double *Lx = L->x;
     int64_t *cp = aug_malloc((size_t)(n + 1) * sizeof *cp);
-    if (!cp) return aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory");
+    double *col = aug_malloc((size_t)(n ? n : 1) * sizeof *col);
+    if (!cp || !col) {
+        free(cp), free(col);
+        return aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory");
+    }
     cp[0] = 0;
     for (int64_t s = 0; s < ns; s++) {
         int k1 = Super[s], k2 = Super[s + 1], psi = Lpi[s], nsrow = Lpi[s + 1] - psi;
@@ -110,18 +131,20 @@ static int write_supernodal(aug_writer *w, const cholmod_factor *L, aug_err *e)
         for (int q = psi + 1; q < psi + nsrow; q++)
             if (Ls[q] <= Ls[q - 1]) goto unsorted;
     }
-    aug_buf b;
-    reserve(&b, 24 + (size_t)n * 4 + (size_t)(n + 1) * 8 + (size_t)cp[n] * 12);
-    put_header(&b, L, cp[n], cp);
+    size_t len = 24 + (size_t)n * 4 + (size_t)(n + 1) * 8 + (size_t)cp[n] * 12;
+    sink k = {.w = w, .stream = aug_writer_deflate_min(w) == 0, .e = e};
+    if (k.stream) k.rc = aug_write_begin(w, "FACT", AUG_NOSTEP, len, e);
+    else reserve(&k.b, len);
+    int64_t head[2] = {n, cp[n]};
+    int32_t ord[2] = {L->ordering, 0};
+    sink_put(&k, head, 2, 8);
+    sink_put(&k, ord, 2, 4);
+    sink_put(&k, L->Perm, (size_t)n, 4);
+    sink_put(&k, cp, (size_t)n + 1, 8);
     free(cp);
     for (int64_t s = 0; s < ns; s++) {
         int k1 = Super[s], k2 = Super[s + 1], psi = Lpi[s], nsrow = Lpi[s + 1] - psi;
-        for (int jj = 0; jj < k2 - k1; jj++) aug_buf_i32v(&b, Ls + psi + jj, (size_t)(nsrow - jj));
-    }
-    double *col = aug_malloc((size_t)(n ? n : 1) * sizeof *col);
-    if (!col) {
-        aug_buf_free(&b);
-        return aug_err_set(e, AUG_ENOMEM, idx, "FACT", "out of memory");
+        for (int jj = 0; jj < k2 - k1; jj++) sink_put(&k, Ls + psi + jj, (size_t)(nsrow - jj), 4);
     }
     for (int64_t s = 0; s < ns; s++) {
         int k1 = Super[s], k2 = Super[s + 1], nsrow = Lpi[s + 1] - Lpi[s];
@@ -130,13 +153,15 @@ static int write_supernodal(aug_writer *w, const cholmod_factor *L, aug_err *e)
             double ljj = x[0];
             col[0] = ljj * ljj;
             for (int q = 1; q < nsrow - jj; q++) col[q] = x[q] / ljj;
-            aug_buf_f64v(&b, col, (size_t)(nsrow - jj));
+            sink_put(&k, col, (size_t)(nsrow - jj), 8);
         }
     }
     free(col);
-    return finish(w, &b, e);
+    if (k.stream) return k.rc ? k.rc : aug_write_end(w, e);
+    return finish(w, &k.b, e);
 unsorted:
     free(cp);
+    free(col);
     return 1;
 }
 

@@ -529,6 +529,7 @@ aug_writer *aug_writer_open(FILE *f, const char *producer, aug_err *e)
 
 void aug_writer_deflate(aug_writer *w, uint64_t deflate_min) { w->deflate_min = deflate_min; }
 long aug_writer_count(const aug_writer *w) { return w->count; }
+uint64_t aug_writer_deflate_min(const aug_writer *w) { return w->deflate_min; }
 
 int aug_write(aug_writer *w, const char *type, int32_t step, const void *payload,
               uint64_t len, aug_err *e)

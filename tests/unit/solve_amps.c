@@ -105,7 +105,7 @@ static void run_sequence(int nx, int ny, int nz, int nsteps, unsigned long seed,
                     for (int64_t j = 0; j < g.n; j++) s2 -= g.K[i + j * g.ncap] * x[j];
                     res[i] = s2;
                 }
-                T_CHECK(aug_amps_solve_general(&a, b, &c, res, dx, &e) == 0, "%s", e.msg);
+                T_CHECK(aug_amps_solve_general(&a, b, &c, res, dx, &cm, &e) == 0, "%s", e.msg);
                 rr = 0;
                 for (int64_t i = 0; i < g.n; i++) x[i] += dx[i];
                 for (int64_t i = 0; i < g.n; i++) {
