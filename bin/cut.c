@@ -10,7 +10,7 @@
 #include "cli/aug_tool.h"
 
 static const char *synopsis =
-    "cut [FILE] (--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--per-step K] [--seed S]\n"
+    "cut [FILE] (--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--polygon PTS] [--per-step K] [--seed S]\n"
     "           | --path PFILE [--mode split|snap] [--snap-tol T])\n"
     "           --steps N [--pull F] [--detached error|pin|drop|keep]\n"
     "           [--constrain SET|box:LO,HI[=u,v[,w]][@S]]... [--stats] [--deflate] [-h]";
@@ -20,6 +20,8 @@ static const char *help =
     "  --plane nx,ny,nz,d   advancing planar cut along n.x = d (2-D: nz ignored)\n"
     "  --plane random       a random plane through the middle of the mesh (--seed)\n"
     "  --advance dx,dy,dz   direction the cut advances (default: away from the fixed set)\n"
+    "  --polygon x,y,z,...  3-D: cut only inside this polygon (3 to 64 points, projected\n"
+    "                       onto the plane): a bounded, partial cut\n"
     "  --per-step K         cut nodes duplicated per step (default: ceil(cut nodes / 64))\n"
     "  --path PFILE         2-D cut path: line, polyline, bezier, arc, circle (see cut(1))\n"
     "  --mode split|snap    split: new nodes where the path crosses edges (default);\n"
@@ -48,6 +50,8 @@ typedef struct constraint {
 typedef struct options {
     const char *file, *pathfile;
     int plane, random_plane, have_adv, mode, policy, stats, deflate;
+    int npoly;                 /* --polygon vertices (3-D points) */
+    double poly[3 * 64];
     double n[4], adv[3], pull, snap_tol;
     long steps, per_step, seed;
     aug_path path;
@@ -119,6 +123,14 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         } else if (!strcmp(a, "--advance")) {
             if (!v || aug_parse_doubles(v, o->adv, 3)) aug_tool_usage(t, "--advance needs dx,dy,dz");
             else o->have_adv = 1;
+            i += v != NULL;
+        } else if (!strcmp(a, "--polygon")) {
+            int nc = 0;
+            for (const char *c = v; c && *c; c++) nc += *c == ',';
+            if (!v || (nc + 1) % 3 != 0 || (nc + 1) / 3 < 3 || (nc + 1) / 3 > 64 ||
+                aug_parse_doubles(v, o->poly, nc + 1))
+                aug_tool_usage(t, "--polygon needs 3 to 64 points x,y,z,x,y,z,...");
+            else o->npoly = (nc + 1) / 3;
             i += v != NULL;
         } else if (!strcmp(a, "--steps")) {
             if (!v || aug_parse_long(v, &o->steps) || o->steps < 1 || o->steps > 1000000)
@@ -344,6 +356,7 @@ int main(int argc, char **argv)
         if (o.random_plane) random_plane(m, o.seed, o.n);
         if (m->dim == 2) o.n[2] = 0;
         aug_tool_check(&t, aug_plane_plan(&pc, m, &c.adj, o.n, o.n[3], o.have_adv ? o.adv : NULL, &e), &e);
+        if (o.npoly) aug_tool_check(&t, aug_plane_restrict(&pc, m, o.poly, o.npoly, &e), &e);
         if (per == 0) per = (pc.ncut + 63) / 64;
         c.pull_dir = pc.n; /* pull the cut faces apart along the plane's normal */
     } else {

@@ -192,6 +192,11 @@ typedef struct aug_plane_cut {
    fixed set (see man/cut.1). Fails (AUG_EDATA) when the plane misses the mesh. */
 int aug_plane_plan(aug_plane_cut *pc, const aug_mesh *m, const aug_adj *adj,
                    const double n[3], double d, const double *adv, aug_err *e);
+/* Keep only the planned cut nodes whose projection onto the plane lies in the
+   polygon poly[0..npoly) (3-D points, projected; the even-odd rule, its edges
+   inclusive): a bounded cut (cut_polygon.c). Their order is kept. */
+int aug_plane_restrict(aug_plane_cut *pc, const aug_mesh *m, const double *poly, int npoly,
+                       aug_err *e);
 /* Duplicate the next count cut nodes; appends to seg the edges (2*dim doubles
    each) of the faces this opens. */
 int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg,
