@@ -2,7 +2,7 @@
 # cut: time per cut step and update sizes (m, k) for the papers' advancing
 # planar cut (issue 4, "Bench") on brick N = 16 (plane x = 0.5) and beam
 # h = 256 (plane x = 2, along the beam), 32 steps at the default nodes per
-# step, against one full CHOLMOD solve of the same mesh measured in the same
+# step (and at one node per step, the papers' experiment: *_1), against one full CHOLMOD solve of the same mesh measured in the same
 # run (factor's step-0 solve, tIMe solve_ms). Goal: a cut step < 10% of a
 # solve. Medians over REPS runs of every step (tIMe time_ms: the step's
 # geometry, separation, detached-piece check and UPDT, without writing).
@@ -22,8 +22,8 @@ pct() { sort -g | awk -v p=$1 '{v[NR] = $1} END {i = int(p * NR + 0.999); if (i 
 
 echo "mesh,rep,step,time_ms,m,k,nnew,nmod" > $CSV
 echo "mesh,nodes,steps,per_step_nodes,median_step_ms,p90_step_ms,median_m,max_m,k,solve_ms,step_over_solve,goal_lt_0.10" > $SUM
-run() { # name, scene, plane
-    name=$1; msh=build/scenes/$2.msh; plane=$3
+run() { # name, scene, plane, extra cut options
+    name=$1; msh=build/scenes/$2.msh; plane=$3; extra=${4:-}
     make --no-print-directory -s $msh > /dev/null || { echo "cut.sh: cannot make $msh" >&2; exit 1; }
     bin/meshload $msh --fix fixed > $TMP/$name.aug || exit 1
     : > $TMP/solve_ms
@@ -31,7 +31,7 @@ run() { # name, scene, plane
     while [ $i -le "$REPS" ]; do
         bin/factor --threads 1 --no-cond --no-factor $TMP/$name.aug > $TMP/f.aug || exit 1
         python3 bench/aug_kv.py $TMP/f.aug | awk '$1 == "tIMe" && $4 == "solve_ms" { print $5 }' >> $TMP/solve_ms
-        bin/cut $TMP/$name.aug --plane $plane --steps $STEPS --stats > $TMP/c.aug || exit 1
+        bin/cut $TMP/$name.aug --plane $plane --steps $STEPS --stats $extra > $TMP/c.aug || exit 1
         python3 bench/aug_kv.py $TMP/c.aug | awk -v n=$name -v r=$i '
             $3 == "cut" { v[$2, $4] = $5; if ($2 > s) s = $2 }
             END { for (t = 1; t <= s; t++) printf "%s,%d,%d,%s,%s,%s,%s,%s\n", n, r, t, v[t, "time_ms"], v[t, "m"], v[t, "k"], v[t, "nnew"], v[t, "nmod"] }' >> $CSV
@@ -50,6 +50,9 @@ run() { # name, scene, plane
 }
 run brick_n16 brick_n16 1,0,0,0.5
 run beam_h256 beam_h256 1,0,0,2
+# the papers' experiment: one node duplicated per step
+run brick_n16_1 brick_n16 1,0,0,0.5 "--per-step 1"
+run beam_h256_1 beam_h256 1,0,0,2 "--per-step 1"
 column -s, -t < $SUM
 
 if command -v gnuplot > /dev/null; then
