@@ -4,21 +4,10 @@
 #include <string.h>
 #include "aug_cut.h"
 
-static int64_t find(const int32_t *a, int64_t n, int32_t v)
-{
-    int64_t lo = 0, hi = n - 1;
-    while (lo <= hi) {
-        int64_t mid = lo + (hi - lo) / 2;
-        if (a[mid] == v) return mid;
-        if (a[mid] < v) lo = mid + 1;
-        else hi = mid - 1;
-    }
-    return -1;
-}
 
 int aug_mesh_fixed(const aug_mesh *m, int32_t dof, double *v)
 {
-    int64_t k = find(m->fix_dof, m->nfix, dof);
+    int64_t k = aug_find_i32(m->fix_dof, m->nfix, dof);
     if (k < 0) return 0;
     if (v) *v = m->fix_val[k];
     return 1;
@@ -26,7 +15,7 @@ int aug_mesh_fixed(const aug_mesh *m, int32_t dof, double *v)
 
 double aug_mesh_load(const aug_mesh *m, int32_t dof)
 {
-    int64_t k = find(m->load_dof, m->nload, dof);
+    int64_t k = aug_find_i32(m->load_dof, m->nload, dof);
     return k < 0 ? 0.0 : m->load_val[k];
 }
 

@@ -19,21 +19,10 @@ void aug_pieces_free(aug_pieces *p)
     memset(p, 0, sizeof *p);
 }
 
-static int64_t find(const int32_t *a, int64_t n, int32_t v)
-{
-    int64_t lo = 0, hi = n - 1;
-    while (lo <= hi) {
-        int64_t mid = lo + (hi - lo) / 2;
-        if (a[mid] == v) return mid;
-        if (a[mid] < v) lo = mid + 1;
-        else hi = mid - 1;
-    }
-    return -1;
-}
 
 static int is_fixed(const aug_mesh *m, const aug_bdelta *x, int32_t dof)
 {
-    return aug_mesh_fixed(m, dof, NULL) || (x && find(x->fix_dof, x->nfix, dof) >= 0);
+    return aug_mesh_fixed(m, dof, NULL) || (x && aug_find_i32(x->fix_dof, x->nfix, dof) >= 0);
 }
 
 /* rigid-motion row of component c at point r (relative, scaled):

@@ -57,37 +57,22 @@ static void attach(aug_base *b)
     b->Lp = L->p, b->Li = L->i, b->Lnz = L->nz, b->Lx = L->x;
 }
 
-/* a refactorization of Kb with L's permutation, simplicial LDL' */
-static cholmod_factor *refactor_given(const cholmod_sparse *Kb, const int *perm,
-                                      cholmod_common *cm)
+/* Kb factored with the permutation perm kept as given (no postordering):
+   simplicial LDL' (super = 0) or supernodal L L' (super = 1, then Ls = L D^1/2
+   column for column). NULL if CHOLMOD failed or changed the permutation. */
+static cholmod_factor *factor_given(const cholmod_sparse *Kb, const int32_t *perm, int super,
+                                    cholmod_common *cm)
 {
     int nm = cm->nmethods, sn = cm->supernodal, ord = cm->method[0].ordering, post = cm->postorder;
     cm->nmethods = 1;
     cm->method[0].ordering = CHOLMOD_GIVEN;
-    cm->supernodal = CHOLMOD_SIMPLICIAL;
+    cm->supernodal = super ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     cm->postorder = 0;
     cholmod_factor *L = cholmod_analyze_p((cholmod_sparse *)Kb, (int *)perm, NULL, 0, cm);
     if (L && !cholmod_factorize((cholmod_sparse *)Kb, L, cm)) cholmod_free_factor(&L, cm);
     cm->nmethods = nm, cm->supernodal = sn, cm->method[0].ordering = ord, cm->postorder = post;
-    return L;
-}
-
-/* Ls: supernodal L L' of Kb with the permutation perm kept as given (no
-   postordering), so Ls = L D^1/2 column for column; NULL if CHOLMOD changed
-   the permutation or failed. */
-static cholmod_factor *supernodal_given(const cholmod_sparse *Kb, const int32_t *perm, int64_t n,
-                                        cholmod_common *cm)
-{
-    int nm = cm->nmethods, sn = cm->supernodal, ord = cm->method[0].ordering, post = cm->postorder;
-    cm->nmethods = 1;
-    cm->method[0].ordering = CHOLMOD_GIVEN;
-    cm->supernodal = CHOLMOD_SUPERNODAL;
-    cm->postorder = 0;
-    cholmod_factor *L = cholmod_analyze_p((cholmod_sparse *)Kb, (int *)perm, NULL, 0, cm);
-    if (L && !cholmod_factorize((cholmod_sparse *)Kb, L, cm)) cholmod_free_factor(&L, cm);
-    cm->nmethods = nm, cm->supernodal = sn, cm->method[0].ordering = ord, cm->postorder = post;
-    if (L && (L->minor < L->n || !L->is_super)) cholmod_free_factor(&L, cm);
-    for (int64_t k = 0; L && k < n; k++)
+    if (L && (L->minor < L->n || (super && !L->is_super))) cholmod_free_factor(&L, cm);
+    for (size_t k = 0; L && k < L->n; k++)
         if (((int *)L->Perm)[k] != perm[k]) cholmod_free_factor(&L, cm);
     return L;
 }
@@ -133,7 +118,7 @@ aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double
             aug_err_set(e, AUG_EDATA, -1, "FACT", "factor pattern is not closed under its elimination tree");
             goto fail;
         }
-        cholmod_factor *L2 = refactor_given(Kb, b->perm, cm);
+        cholmod_factor *L2 = factor_given(Kb, b->perm, 0, cm);
         if (!L2 || L2->minor < L2->n) {
             if (L2) cholmod_free_factor(&L2, cm);
             aug_err_set(e, AUG_ESINGULAR, -1, "FACT", "re-factorization of the base failed");
@@ -151,7 +136,7 @@ aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double
             goto fail;
         }
     aug_ldl_solve_full(b, fb, b->a, work);
-    if (!b->Ls && Kb && b->n >= AUG_SUPERNODAL_MIN) b->Ls = supernodal_given(Kb, b->perm, b->n, cm);
+    if (!b->Ls && Kb && b->n >= AUG_SUPERNODAL_MIN) b->Ls = factor_given(Kb, b->perm, 1, cm);
     if (b->Ls) {
         b->sqrtd = aug_malloc((size_t)b->n * sizeof *b->sqrtd);
         b->super_of = aug_malloc((size_t)b->n * sizeof *b->super_of);

@@ -17,17 +17,6 @@ typedef struct bstate {
     const aug_bdelta *bc;
 } bstate;
 
-static int64_t find(const int32_t *a, int64_t n, int32_t v)
-{
-    int64_t lo = 0, hi = n - 1;
-    while (lo <= hi) {
-        int64_t mid = lo + (hi - lo) / 2;
-        if (a[mid] == v) return mid;
-        if (a[mid] < v) lo = mid + 1;
-        else hi = mid - 1;
-    }
-    return -1;
-}
 
 static int fixed_prev(const bstate *s, int32_t dof, double *v)
 {
@@ -37,7 +26,7 @@ static int fixed_prev(const bstate *s, int32_t dof, double *v)
 static int fixed_now(const bstate *s, int32_t dof, double *v)
 {
     if (s->bc) {
-        int64_t k = find(s->bc->fix_dof, s->bc->nfix, dof);
+        int64_t k = aug_find_i32(s->bc->fix_dof, s->bc->nfix, dof);
         if (k >= 0) {
             if (v) *v = s->bc->fix_val[k];
             return 1;
@@ -54,7 +43,7 @@ static double load_prev(const bstate *s, int32_t dof)
 static double load_now(const bstate *s, int32_t dof)
 {
     if (s->bc) {
-        int64_t k = find(s->bc->load_dof, s->bc->nload, dof);
+        int64_t k = aug_find_i32(s->bc->load_dof, s->bc->nload, dof);
         if (k >= 0) return s->bc->load_val[k];
     }
     return aug_mesh_load(s->A, dof);
@@ -185,7 +174,7 @@ int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const in
     } while (0)
     for (int64_t q = 0; q < nel; q++) {
         int32_t i = el[q];
-        int64_t mp = find(d->elem, d->nmod, i);
+        int64_t mp = aug_find_i32(d->elem, d->nmod, i);
         const int32_t *oc = mp >= 0 ? oldconn + mp * nv : (i < neb ? A->conn + (int64_t)i * nv : NULL);
         for (int a = 0; a < nv; a++)
             for (int c = 0; c < dim; c++) {
@@ -224,7 +213,7 @@ int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const in
     if (!E || !fo || !fn || !u->H || !u->df) goto nomem;
     for (int64_t q = 0; q < nel; q++) {
         int32_t i = el[q];
-        int64_t mp = find(d->elem, d->nmod, i);
+        int64_t mp = aug_find_i32(d->elem, d->nmod, i);
         const int32_t *oc = mp >= 0 ? oldconn + mp * nv : (i < neb ? A->conn + (int64_t)i * nv : NULL);
         const int32_t *nc = A->conn + (int64_t)i * nv;
         double Ko[144], Kn[144];

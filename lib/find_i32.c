@@ -1,0 +1,15 @@
+/* Binary search in a sorted int32 array. */
+#include "aug_mesh.h"
+
+/* position of v in a[0..n) (strictly increasing), -1 if absent */
+int64_t aug_find_i32(const int32_t *a, int64_t n, int32_t v)
+{
+    int64_t lo = 0, hi = n - 1;
+    while (lo <= hi) {
+        int64_t mid = lo + (hi - lo) / 2;
+        if (a[mid] == v) return mid;
+        if (a[mid] < v) lo = mid + 1;
+        else hi = mid - 1;
+    }
+    return -1;
+}
