@@ -4,40 +4,51 @@
 #include <string.h>
 #include "aug_solve.h"
 
-/* G[i,j] = V(:,i)' D^-1 V(:,j) for the m_new last columns j and every i <= j.
-   Two etree paths share exactly the path from their lowest common ancestor to
-   the root, which is a suffix of both ascending lists: each product runs
-   backwards over that suffix only (eq. 3.27, table 1 step 2). */
+/* G[i,j] = V(:,i)' D^-1 V(:,j) for the m_new last columns j and every i.
+   The new columns' paths form U, a set closed under etree ancestors, so U
+   meets any column's path in a suffix of it (eq. 3.27, table 1 step 2).
+   W = D^-1 V_new is gathered densely over U, row by row (m_new wide), and
+   each column i runs backwards over its suffix in U, adding v * W(r, :). */
 int aug_memo_grow(aug_memo *M, const aug_base *b, aug_err *e)
 {
     if (M->m_new == 0) return 0;
-    int64_t n = b->n, j0 = M->m - M->m_new, ld = M->mcap;
-    double *w = aug_malloc((size_t)n * sizeof *w);
-    int32_t *stamp = aug_calloc((size_t)n, sizeof *stamp);
-    if (!w || !stamp) {
-        free(w), free(stamp);
-        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (G)");
-    }
-    for (int64_t j = j0; j < M->m; j++) {
-        int32_t tag = (int32_t)(j - j0 + 1);
+    int64_t n = b->n, j0 = M->m - M->m_new, ld = M->mcap, w = M->m_new;
+    int32_t *row = aug_malloc((size_t)n * sizeof *row);
+    double *acc = aug_malloc((size_t)w * sizeof *acc), *W = NULL;
+    if (!row || !acc) goto nomem;
+    for (int64_t t = 0; t < n; t++) row[t] = -1;
+    int64_t nu = 0; /* |U|: rows numbered in order of first appearance */
+    for (int64_t t = M->vp[j0]; t < M->vp[M->m]; t++)
+        if (row[M->vi[t]] < 0) row[M->vi[t]] = (int32_t)nu++;
+    W = aug_calloc((size_t)(nu ? nu : 1) * (size_t)w, sizeof *W);
+    if (!W) goto nomem;
+    for (int64_t j = j0; j < M->m; j++)
         for (int64_t t = M->vp[j]; t < M->vp[j + 1]; t++) {
             int32_t r = M->vi[t];
-            w[r] = M->vx[t] / aug_base_d(b, r);
-            stamp[r] = tag;
+            W[(int64_t)row[r] * w + (j - j0)] = M->vx[t] / aug_base_d(b, r);
         }
-        double *Gj = M->G + j * ld;
-        for (int64_t i = 0; i <= j; i++) {
-            double s = 0;
-            for (int64_t t = M->vp[i + 1] - 1; t >= M->vp[i]; t--) {
-                int32_t r = M->vi[t];
-                if (stamp[r] != tag) break;
-                s += M->vx[t] * w[r];
-            }
-            Gj[i] = s;
-            M->G[j + i * ld] = s;
+    for (int64_t i = 0; i < M->m; i++) {
+        for (int64_t q = 0; q < w; q++) acc[q] = 0;
+        for (int64_t t = M->vp[i + 1] - 1; t >= M->vp[i]; t--) {
+            int32_t r = M->vi[t];
+            if (row[r] < 0) break;
+            const double *Wr = W + (int64_t)row[r] * w;
+            double v = M->vx[t];
+            for (int64_t q = 0; q < w; q++) acc[q] += v * Wr[q];
+        }
+        for (int64_t q = 0; q < w; q++) {
+            int64_t j = j0 + q;
+            M->G[i + j * ld] = acc[q];
+            M->G[j + i * ld] = acc[q];
         }
     }
-    free(w);
-    free(stamp);
+    free(row);
+    free(W);
+    free(acc);
     return 0;
+nomem:
+    free(row);
+    free(W);
+    free(acc);
+    return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (G)");
 }
