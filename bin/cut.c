@@ -1,6 +1,5 @@
 /* cut: a stream (mesh, possibly factor and earlier steps) -> + per cut step
    MDLT, BDLT, UPDT, pATH (planar cut by node duplication, or a 2-D path). */
-#include <malloc.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -326,10 +325,6 @@ int main(int argc, char **argv)
     aug_tool_init(&t, "cut", argc, argv);
     parse(&t, argc, argv, &o);
     aug_set_threads(1); /* GSL's small eigenproblems call OpenBLAS: no idle spinning threads */
-    /* every step allocates and frees its dense E: keep freed memory mapped, so
-       that a step does not pay page faults for it again */
-    mallopt(M_MMAP_THRESHOLD, 1 << 26);
-    mallopt(M_TRIM_THRESHOLD, 1 << 28);
     aug_mesh_init(&s.m);
     aug_tool_open_in(&t, o.file);
     aug_tool_open_out(&t);

@@ -1,5 +1,6 @@
 /* Messages, exit codes and stream set-up shared by every tool. */
 #include <errno.h>
+#include <malloc.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -10,6 +11,11 @@
 
 void aug_tool_init(aug_tool *t, const char *prog, int argc, char **argv)
 {
+    /* filters allocate and free large work arrays per record or step: keep
+       freed memory mapped (no mmap below 64 MiB, no trimming below 256 MiB),
+       so that a step does not pay first-touch page faults again */
+    mallopt(M_MMAP_THRESHOLD, 1 << 26);
+    mallopt(M_TRIM_THRESHOLD, 1 << 28);
     memset(t, 0, sizeof *t);
     t->prog = prog;
     t->argc = argc;
