@@ -57,6 +57,8 @@ enum { AUG_HAVE_NODE = 1, AUG_HAVE_ELEM = 2, AUG_HAVE_MATL = 4, AUG_HAVE_FIXD = 
 
 void aug_mesh_init(aug_mesh *m);
 void aug_mesh_free(aug_mesh *m);
+/* Deep copy of m into t; -1 on allocation failure (t is then empty). */
+int aug_mesh_copy(aug_mesh *t, const aug_mesh *m);
 
 /* Is this one of the mesh record types? */
 int aug_mesh_is_record(const char *type);

@@ -22,6 +22,49 @@ void aug_mesh_free(aug_mesh *m)
     aug_mesh_init(m);
 }
 
+/* copy n bytes of src into a new buffer at *dst (NULL when n = 0) */
+static int dup_bytes(void **dst, const void *src, size_t n)
+{
+    *dst = NULL;
+    if (n == 0) return 0;
+    if (!(*dst = aug_malloc(n))) return -1;
+    memcpy(*dst, src, n);
+    return 0;
+}
+
+int aug_mesh_copy(aug_mesh *t, const aug_mesh *m)
+{
+    *t = *m;
+    t->x = NULL, t->conn = NULL, t->mat = NULL, t->mats = NULL, t->sets = NULL;
+    t->fix_dof = NULL, t->fix_val = NULL, t->load_dof = NULL, t->load_val = NULL, t->out_nodes = NULL;
+    t->nset = 0;
+    if (dup_bytes((void **)&t->x, m->x, (size_t)(m->nn * m->dim) * sizeof(double)) ||
+        dup_bytes((void **)&t->conn, m->conn, (size_t)(m->ne * m->nv) * sizeof(int32_t)) ||
+        dup_bytes((void **)&t->mat, m->mat, (size_t)m->ne * sizeof(int32_t)) ||
+        dup_bytes((void **)&t->mats, m->mats, (size_t)m->nmat * sizeof(aug_material)) ||
+        dup_bytes((void **)&t->fix_dof, m->fix_dof, (size_t)m->nfix * sizeof(int32_t)) ||
+        dup_bytes((void **)&t->fix_val, m->fix_val, (size_t)m->nfix * sizeof(double)) ||
+        dup_bytes((void **)&t->load_dof, m->load_dof, (size_t)m->nload * sizeof(int32_t)) ||
+        dup_bytes((void **)&t->load_val, m->load_val, (size_t)m->nload * sizeof(double)) ||
+        dup_bytes((void **)&t->out_nodes, m->out_nodes, (size_t)m->nout * sizeof(int32_t)))
+        goto fail;
+    if (m->nset) {
+        if (!(t->sets = aug_calloc((size_t)m->nset, sizeof *t->sets))) goto fail;
+        for (int i = 0; i < m->nset; i++) {
+            t->sets[i] = m->sets[i];
+            t->sets[i].nodes = NULL;
+            t->nset = i + 1;
+            if (dup_bytes((void **)&t->sets[i].nodes, m->sets[i].nodes,
+                          (size_t)m->sets[i].n * sizeof(int32_t)))
+                goto fail;
+        }
+    }
+    return 0;
+fail:
+    aug_mesh_free(t);
+    return -1;
+}
+
 int aug_mesh_is_record(const char *t)
 {
     static const char *types[] = {"NODE", "ELEM", "MATL", "nSEt", "FIXD", "LOAD", "oUTs"};

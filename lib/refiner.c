@@ -25,47 +25,6 @@ void aug_refine_opt_default(aug_refine_opt *o)
     o->max_new = 0; /* automatic: 1000 + 100 per element of the step's region */
 }
 
-static int dup(void **dst, const void *src, size_t n)
-{
-    *dst = NULL;
-    if (!n) return 0;
-    *dst = aug_malloc(n);
-    if (!*dst) return -1;
-    memcpy(*dst, src, n);
-    return 0;
-}
-
-/* deep copy of a mesh */
-static int mesh_copy(aug_mesh *t, const aug_mesh *m)
-{
-    *t = *m;
-    t->x = NULL, t->conn = NULL, t->mat = NULL, t->mats = NULL, t->sets = NULL;
-    t->fix_dof = NULL, t->fix_val = NULL, t->load_dof = NULL, t->load_val = NULL, t->out_nodes = NULL;
-    t->nset = 0;
-    if (dup((void **)&t->x, m->x, (size_t)(m->nn * m->dim) * sizeof(double)) ||
-        dup((void **)&t->conn, m->conn, (size_t)(m->ne * m->nv) * sizeof(int32_t)) ||
-        dup((void **)&t->mat, m->mat, (size_t)m->ne * sizeof(int32_t)) ||
-        dup((void **)&t->mats, m->mats, (size_t)m->nmat * sizeof(aug_material)) ||
-        dup((void **)&t->fix_dof, m->fix_dof, (size_t)m->nfix * sizeof(int32_t)) ||
-        dup((void **)&t->fix_val, m->fix_val, (size_t)m->nfix * sizeof(double)) ||
-        dup((void **)&t->load_dof, m->load_dof, (size_t)m->nload * sizeof(int32_t)) ||
-        dup((void **)&t->load_val, m->load_val, (size_t)m->nload * sizeof(double)) ||
-        dup((void **)&t->out_nodes, m->out_nodes, (size_t)m->nout * sizeof(int32_t)))
-        return -1;
-    if (m->nset) {
-        t->sets = aug_calloc((size_t)m->nset, sizeof *t->sets);
-        if (!t->sets) return -1;
-        for (int i = 0; i < m->nset; i++) {
-            t->sets[i] = m->sets[i];
-            t->sets[i].nodes = NULL;
-            t->nset = i + 1;
-            if (dup((void **)&t->sets[i].nodes, m->sets[i].nodes, (size_t)m->sets[i].n * sizeof(int32_t)))
-                return -1;
-        }
-    }
-    return 0;
-}
-
 static int grow_i32(int32_t **a, int64_t *cap, int64_t need)
 {
     if (need <= *cap) return 0;
@@ -102,7 +61,7 @@ int aug_refiner_init(aug_refiner *r, const aug_mesh *m, const aug_refine_opt *o,
     if (!((m->dim == 2 && m->nv == 3) || (m->dim == 3 && m->nv == 4)))
         return aug_err_set(e, AUG_EDATA, -1, "ELEM", "refine needs tri3 or tet4 elements");
     int rc;
-    if (mesh_copy(&r->cut, m) || mesh_copy(&r->base, m)) goto nomem;
+    if (aug_mesh_copy(&r->cut, m) || aug_mesh_copy(&r->base, m)) goto nomem;
     if ((rc = aug_work_init(&r->work, m))) {
         if (rc == AUG_ENOMEM) goto nomem;
         return aug_err_set(e, rc, -1, "ELEM", "mesh is not manifold (an edge of three triangles)");

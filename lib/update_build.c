@@ -312,56 +312,6 @@ nomem:
     return NOMEM();
 }
 
-/* deep copy of the parts of a mesh that aug_mesh_apply and the builder use */
-static int mesh_copy(aug_mesh *t, const aug_mesh *m)
-{
-    *t = *m;
-    t->x = NULL;
-    t->conn = NULL;
-    t->mat = NULL;
-    t->sets = NULL;
-    t->fix_dof = NULL;
-    t->fix_val = NULL;
-    t->load_dof = NULL;
-    t->load_val = NULL;
-    t->out_nodes = NULL;
-    t->mats = NULL;
-    t->nset = 0;
-#define DUP(F, N)                                                                    \
-    do {                                                                             \
-        if ((N) > 0) {                                                               \
-            t->F = aug_malloc((size_t)(N) * sizeof *m->F);                           \
-            if (!t->F) return -1;                                                    \
-            memcpy(t->F, m->F, (size_t)(N) * sizeof *m->F);                          \
-        }                                                                            \
-    } while (0)
-    DUP(x, m->nn * m->dim);
-    DUP(conn, m->ne * m->nv);
-    DUP(mat, m->ne);
-    DUP(mats, m->nmat);
-    DUP(fix_dof, m->nfix);
-    DUP(fix_val, m->nfix);
-    DUP(load_dof, m->nload);
-    DUP(load_val, m->nload);
-    DUP(out_nodes, m->nout);
-#undef DUP
-    if (m->nset > 0) {
-        t->sets = aug_calloc((size_t)m->nset, sizeof *t->sets);
-        if (!t->sets) return -1;
-        for (int i = 0; i < m->nset; i++) {
-            t->sets[i] = m->sets[i];
-            t->sets[i].nodes = NULL;
-            t->nset = i + 1;
-            if (m->sets[i].n > 0) {
-                t->sets[i].nodes = aug_malloc((size_t)m->sets[i].n * sizeof(int32_t));
-                if (!t->sets[i].nodes) return -1;
-                memcpy(t->sets[i].nodes, m->sets[i].nodes, (size_t)m->sets[i].n * sizeof(int32_t));
-            }
-        }
-    }
-    return 0;
-}
-
 int aug_update_build_bc(const aug_mesh *before, const aug_mdelta *d, const aug_bdelta *bc,
                         int64_t nn0, const int32_t *map0, int64_t nfree0, aug_update *u,
                         aug_err *e)
@@ -370,7 +320,7 @@ int aug_update_build_bc(const aug_mesh *before, const aug_mdelta *d, const aug_b
     aug_mesh t;
     int32_t *old = NULL;
     int rc;
-    if (mesh_copy(&t, before)) goto nomem;
+    if (aug_mesh_copy(&t, before)) goto nomem;
     for (int64_t i = 0; i < d->nmod; i++)
         if (d->elem[i] < 0 || d->elem[i] >= before->ne || (i > 0 && d->elem[i] <= d->elem[i - 1])) {
             aug_mesh_free(&t);
