@@ -202,6 +202,7 @@ int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn
     geo *g = NULL;
     double *G = NULL, *big = NULL, *lam = NULL, *V = NULL;
     unsigned char *sup = NULL;
+    int rc = 0;
     free(out->bad);
     free(out->first);
     free(out->size);
@@ -440,6 +441,10 @@ int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn
             if (!sup[p]) out->bad[out->nbad++] = (int32_t)p;
     }
     qsort_r(out->bad, (size_t)out->nbad, sizeof *out->bad, cmp_first, out->first);
+    goto done;
+nomem:
+    aug_pieces_free(out);
+    rc = aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory finding detached pieces");
 done:
     free(np_of);
     free(plist);
@@ -451,20 +456,7 @@ done:
     free(lam);
     free(V);
     free(sup);
-    return 0;
-nomem:
-    free(np_of);
-    free(plist);
-    free(pstart);
-    free(uidx);
-    free(g);
-    free(G);
-    free(big);
-    free(lam);
-    free(V);
-    free(sup);
-    aug_pieces_free(out);
-    return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory finding detached pieces");
+    return rc;
 }
 
 /* nodes of piece id, increasing; count in *n */
