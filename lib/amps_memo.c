@@ -8,13 +8,19 @@
    The new columns' paths form U, a set closed under etree ancestors, so U
    meets any column's path in a suffix of it (eq. 3.27, table 1 step 2).
    W = D^-1 V_new is gathered densely over U, row by row (m_new wide), and
-   each column i runs backwards over its suffix in U, adding v * W(r, :). */
+   each column i runs backwards over its suffix in U, adding v * W(r, :).
+   The sums run over paths of thousands of rows with cancellation, so they
+   are taken in blocks of CHUNK rows whose partial sums are added apart: the
+   rounding error grows with CHUNK + len/CHUNK instead of len, which is what
+   brings the AMPS residual on the bricks from ~6e-12 to below 1e-12 (H'K^-1H
+   is what S2 and the back-substitution must agree on). */
+#define CHUNK 32
 int aug_memo_grow(aug_memo *M, const aug_base *b, aug_err *e)
 {
     if (M->m_new == 0) return 0;
     int64_t n = b->n, j0 = M->m - M->m_new, ld = M->mcap, w = M->m_new;
     int32_t *row = aug_malloc((size_t)n * sizeof *row);
-    double *acc = aug_malloc((size_t)w * sizeof *acc), *W = NULL;
+    double *acc = aug_malloc((size_t)w * 2 * sizeof *acc), *tot = acc + w, *W = NULL;
     if (!row || !acc) goto nomem;
     for (int64_t t = 0; t < n; t++) row[t] = -1;
     int64_t nu = 0; /* |U|: rows numbered in order of first appearance */
@@ -28,18 +34,22 @@ int aug_memo_grow(aug_memo *M, const aug_base *b, aug_err *e)
             W[(int64_t)row[r] * w + (j - j0)] = M->vx[t] / aug_base_d(b, r);
         }
     for (int64_t i = 0; i < M->m; i++) {
-        for (int64_t q = 0; q < w; q++) acc[q] = 0;
+        for (int64_t q = 0; q < w; q++) acc[q] = tot[q] = 0;
+        int cnt = 0;
         for (int64_t t = M->vp[i + 1] - 1; t >= M->vp[i]; t--) {
             int32_t r = M->vi[t];
             if (row[r] < 0) break;
             const double *Wr = W + (int64_t)row[r] * w;
             double v = M->vx[t];
             for (int64_t q = 0; q < w; q++) acc[q] += v * Wr[q];
+            if (++cnt == CHUNK) {
+                cnt = 0;
+                for (int64_t q = 0; q < w; q++) tot[q] += acc[q], acc[q] = 0;
+            }
         }
         for (int64_t q = 0; q < w; q++) {
             int64_t j = j0 + q;
-            M->G[i + j * ld] = acc[q];
-            M->G[j + i * ld] = acc[q];
+            M->G[i + j * ld] = M->G[j + i * ld] = tot[q] + acc[q];
         }
     }
     free(row);

@@ -1,37 +1,68 @@
 /* AMPS steps 3 and 5: the Schur complement S2 = I - Gbar Ebar of eq. 3.21 on the
-   active positions, LU-factored with LAPACK (paper 001 sec. 3.2, 3.4). */
+   active positions, LU-factored with LAPACK (paper 001 sec. 3.2, 3.4), and the
+   factorization carried from step to step.
+
+   A grows in activation order and Gbar_AA never changes (the memo is fixed
+   for a base), so a step changes S2 only in the columns whose Ebar column it
+   touched (its own positions) and in the rows and columns of newly active
+   positions. Columns before the first changed one keep their pivots and L, U
+   entries; the new rows are solved against U11; the trailing block gets the
+   usual right-looking block update and a fresh partial-pivoting LU. The cut
+   front moves on, so the re-eliminated block stays a small part of S2. */
+#include <cblas.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "aug_solve.h"
 
-void aug_schur_init(aug_schur *s) { memset(s, 0, sizeof *s); }
+/* multipliers of the new rows against the kept pivots above this bound
+   (those pivots were chosen without the new rows) force a full factorization */
+#define GROWTH_MAX 1e3
+
+void aug_schur_init(aug_schur *s)
+{
+    memset(s, 0, sizeof *s);
+    s->rcond = NAN;
+}
 
 void aug_schur_free(aug_schur *s)
 {
+    int wr = s->want_rcond;
     free(s->A);
     free(s->act);
+    free(s->aidx);
+    free(s->gi);
     free(s->S2);
-    free(s->ipiv);
+    free(s->F);
     free(s->Ga);
-    free(s->sr);
-    memset(s, 0, sizeof *s);
+    free(s->cs);
+    free(s->ipiv);
+    free(s->ep);
+    free(s->ei);
+    free(s->ex);
+    aug_schur_init(s);
+    s->want_rcond = wr;
 }
 
 /* positions whose Ebar column became nonzero join A (in activation order);
-   a position with Ebar(:,p) = 0 has S2(:,p) = e_p and decouples (sec. 3.4) */
-static int activate(aug_schur *s, const aug_cum *c)
+   a position with Ebar(:,p) = 0 has S2(:,p) = e_p and decouples (sec. 3.4).
+   Only a column changed since the last factorization can have become nonzero. */
+static int activate(aug_schur *s, const aug_memo *M, const aug_cum *c)
 {
     if (s->pcap < c->cap) {
         unsigned char *a = aug_realloc(s->act, (size_t)c->cap);
         if (!a) return -1;
         memset(a + s->pcap, 0, (size_t)(c->cap - s->pcap));
         s->act = a;
+        int32_t *ai = aug_realloc(s->aidx, (size_t)c->cap * sizeof *ai);
+        if (!ai) return -1;
+        for (int64_t p = s->pcap; p < c->cap; p++) ai[p] = -1;
+        s->aidx = ai;
         s->pcap = c->cap;
     }
     for (int64_t p = 0; p < c->ns; p++) {
-        if (s->act[p]) continue;
+        if (s->act[p] || c->mod[p] <= s->stamp) continue;
         const double *Ep = c->E + p * c->cap;
         int64_t i = 0;
         while (i < c->ns && Ep[i] == 0) i++;
@@ -41,86 +72,225 @@ static int activate(aug_schur *s, const aug_cum *c)
             int32_t *A = aug_realloc(s->A, (size_t)nc * sizeof *A);
             if (!A) return -1;
             s->A = A;
+            int32_t *gi = aug_realloc(s->gi, (size_t)nc * sizeof *gi);
+            if (!gi) return -1;
+            s->gi = gi;
             s->acap = nc;
         }
+        s->gi[s->na] = c->S[p] < c->nb ? M->cpos[p] : -1;
+        s->aidx[p] = (int32_t)s->na;
         s->A[s->na++] = (int32_t)p;
         s->act[p] = 1;
     }
     return 0;
 }
 
+/* square arrays of order at least need, keeping the leading n0 (F, Ga) and
+   nlu (LU) blocks */
+static int grow(aug_schur *s, int64_t need, int64_t n0)
+{
+    if (need <= s->scap) return 0;
+    int64_t nc = s->scap ? 2 * s->scap : 64;
+    while (nc < need) nc *= 2;
+    double *F = aug_malloc((size_t)nc * (size_t)nc * sizeof *F);
+    double *Ga = aug_malloc((size_t)nc * (size_t)nc * sizeof *Ga);
+    double *LU = aug_malloc((size_t)nc * (size_t)nc * sizeof *LU);
+    double *cs = aug_realloc(s->cs, (size_t)nc * sizeof *cs);
+    if (cs) s->cs = cs;
+    int *ipiv = aug_realloc(s->ipiv, (size_t)nc * sizeof *ipiv);
+    if (ipiv) s->ipiv = ipiv;
+    if (!F || !Ga || !LU || !cs || !ipiv) {
+        free(F), free(Ga), free(LU);
+        return -1;
+    }
+    for (int64_t j = 0; j < n0; j++) {
+        memcpy(F + j * nc, s->F + j * s->scap, (size_t)n0 * sizeof *F);
+        memcpy(Ga + j * nc, s->Ga + j * s->scap, (size_t)n0 * sizeof *Ga);
+    }
+    for (int64_t j = 0; j < s->nlu; j++)
+        memcpy(LU + j * nc, s->S2 + j * s->scap, (size_t)s->nlu * sizeof *LU);
+    free(s->F), free(s->Ga), free(s->S2);
+    s->F = F, s->Ga = Ga, s->S2 = LU;
+    s->scap = nc;
+    return 0;
+}
+
+static double gbar(const aug_schur *s, const aug_memo *M, int64_t r, int64_t q)
+{
+    int32_t a = s->gi[r], b = s->gi[q];
+    if (a >= 0 && b >= 0) return M->G[a + (int64_t)b * M->mcap];
+    return a < 0 && b < 0 && r == q;
+}
+
+/* Ebar_AA column lists: changed columns (chg) rescanned, the others kept */
+static int elists(aug_schur *s, const aug_cum *c, const unsigned char *chg, int64_t n0)
+{
+    int64_t n1 = s->na, nz = 0;
+    int64_t *ep = aug_malloc((size_t)(n1 + 1) * sizeof *ep);
+    int64_t cap = s->ecap > 256 ? s->ecap : 256;
+    int32_t *ei = aug_malloc((size_t)cap * sizeof *ei);
+    double *ex = aug_malloc((size_t)cap * sizeof *ex);
+    if (!ep || !ei || !ex) goto nomem;
+    for (int64_t b = 0; b < n1; b++) {
+        ep[b] = nz;
+        if (nz + n1 > cap) {
+            while (nz + n1 > cap) cap *= 2;
+            int32_t *i2 = aug_realloc(ei, (size_t)cap * sizeof *i2);
+            if (!i2) goto nomem;
+            ei = i2;
+            double *x2 = aug_realloc(ex, (size_t)cap * sizeof *x2);
+            if (!x2) goto nomem;
+            ex = x2;
+        }
+        if (b < n0 && !chg[b]) {
+            int64_t len = s->ep[b + 1] - s->ep[b];
+            memcpy(ei + nz, s->ei + s->ep[b], (size_t)len * sizeof *ei);
+            memcpy(ex + nz, s->ex + s->ep[b], (size_t)len * sizeof *ex);
+            nz += len;
+            continue;
+        }
+        const double *Eb = c->E + (int64_t)s->A[b] * c->cap;
+        for (int64_t q = 0; q < n1; q++) {
+            double v = Eb[s->A[q]];
+            if (v != 0) ei[nz] = (int32_t)q, ex[nz++] = v;
+        }
+    }
+    ep[n1] = nz;
+    free(s->ep), free(s->ei), free(s->ex);
+    s->ep = ep, s->ei = ei, s->ex = ex, s->ecap = cap;
+    s->nnzE = nz;
+    return 0;
+nomem:
+    free(ep), free(ei), free(ex);
+    return -1;
+}
+
+static int full_lu(aug_schur *s, int64_t n1)
+{
+    int64_t ld = s->scap;
+    for (int64_t b = 0; b < n1; b++) memcpy(s->S2 + b * ld, s->F + b * ld, (size_t)n1 * sizeof *s->S2);
+    s->k0 = 0;
+    return LAPACKE_dgetrf(LAPACK_COL_MAJOR, (lapack_int)n1, (lapack_int)n1, s->S2, (lapack_int)ld,
+                          s->ipiv);
+}
+
+/* the factorization of order n0 extended to n1 and re-eliminated from column k0 */
+static int update_lu(aug_schur *s, int64_t n0, int64_t n1, int64_t k0)
+{
+    int64_t ld = s->scap, nt = n1 - k0, nn = n1 - n0;
+    double *LU = s->S2;
+    int *ipiv = s->ipiv;
+    /* rows of L(:, 0:k0) back to their order after the first k0 interchanges */
+    for (int64_t i = n0 - 1; i >= k0; i--)
+        if (ipiv[i] - 1 != i) cblas_dswap((int)k0, LU + i, (int)ld, LU + ipiv[i] - 1, (int)ld);
+    if (nn > 0) {
+        for (int64_t b = 0; b < k0; b++)
+            memcpy(LU + n0 + b * ld, s->F + n0 + b * ld, (size_t)nn * sizeof *LU);
+        cblas_dtrsm(CblasColMajor, CblasRight, CblasUpper, CblasNoTrans, CblasNonUnit, (int)nn,
+                    (int)k0, 1.0, LU, (int)ld, LU + n0, (int)ld);
+        for (int64_t b = 0; b < k0; b++)
+            for (int64_t r = n0; r < n1; r++)
+                if (!(fabs(LU[r + b * ld]) <= GROWTH_MAX)) return -2;
+    }
+    for (int64_t b = k0; b < n1; b++) memcpy(LU + b * ld, s->F + b * ld, (size_t)n1 * sizeof *LU);
+    for (int64_t i = 0; i < k0; i++)
+        if (ipiv[i] - 1 != i)
+            cblas_dswap((int)nt, LU + i + k0 * ld, (int)ld, LU + ipiv[i] - 1 + k0 * ld, (int)ld);
+    cblas_dtrsm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasUnit, (int)k0, (int)nt, 1.0,
+                LU, (int)ld, LU + k0 * ld, (int)ld);
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)nt, (int)nt, (int)k0, -1.0, LU + k0,
+                (int)ld, LU + k0 * ld, (int)ld, 1.0, LU + k0 + k0 * ld, (int)ld);
+    lapack_int info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, (lapack_int)nt, (lapack_int)nt,
+                                     LU + k0 + k0 * ld, (lapack_int)ld, ipiv + k0);
+    if (info < 0) return (int)info;
+    for (int64_t i = 0; i < nt; i++) {
+        int64_t p = ipiv[k0 + i] - 1;
+        if (p != i) cblas_dswap((int)k0, LU + k0 + i, (int)ld, LU + k0 + p, (int)ld);
+        ipiv[k0 + i] += (int)k0;
+    }
+    s->k0 = k0;
+    return info > 0 ? (int)(info + k0) : 0;
+}
+
 int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double rcond_min,
                      aug_err *e)
 {
     s->singular = 0;
-    s->rcond = 1;
+    s->rcond = NAN;
     s->detsign = 1;
-    if (activate(s, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (S2)");
-    int64_t na = s->na;
-    if (na == 0) return 0;
-    if (s->scap < na) {
-        free(s->S2), free(s->Ga), free(s->ipiv);
-        s->S2 = aug_malloc((size_t)na * (size_t)na * sizeof *s->S2);
-        s->Ga = aug_malloc((size_t)na * (size_t)na * sizeof *s->Ga);
-        s->ipiv = aug_malloc((size_t)na * sizeof *s->ipiv);
-        free(s->sr);
-        s->sr = aug_malloc((size_t)na * 2 * sizeof *s->sr);
-        s->scap = s->S2 && s->Ga && s->ipiv && s->sr ? na : 0;
-        if (!s->scap) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (S2 %lld)", (long long)na);
+    if (c->napply < s->stamp || s->na > c->ns) aug_schur_free(s); /* a different cum */
+    int64_t n0 = s->na;
+    if (activate(s, M, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (S2)");
+    int64_t n1 = s->na, ld;
+    unsigned char *chg = NULL;
+    if (n1 == 0) goto done;
+    if (grow(s, n1, n0)) goto nomem;
+    ld = s->scap;
+    chg = aug_malloc((size_t)n1);
+    if (!chg) goto nomem;
+    int64_t k0 = s->nlu == n0 ? n0 : 0;
+    for (int64_t b = 0; b < n1; b++) {
+        chg[b] = b >= n0 || c->mod[s->A[b]] > s->stamp;
+        if (chg[b] && b < k0) k0 = b;
     }
-    /* Gbar_AA = blkdiag(H'K^-1H, I) restricted to A */
-    double *Ga = s->Ga, *S2 = s->S2;
-    for (int64_t bq = 0; bq < na; bq++) {
-        int32_t pb = s->A[bq];
-        int ob = c->S[pb] < c->nb;
-        const double *Gb = ob ? M->G + (int64_t)M->cpos[pb] * M->mcap : NULL;
-        for (int64_t aq = 0; aq < na; aq++) {
-            int32_t pa = s->A[aq];
-            int oa = c->S[pa] < c->nb;
-            Ga[aq + bq * na] = oa && ob ? Gb[M->cpos[pa]] : (!oa && !ob && pa == pb);
+    /* Gbar_AA = blkdiag(H'K^-1H, I) on A: the new rows and columns */
+    for (int64_t b = 0; b < n1; b++)
+        for (int64_t r = b < n0 ? n0 : 0; r < n1; r++) s->Ga[r + b * ld] = gbar(s, M, r, b);
+    if (elists(s, c, chg, n0)) goto nomem;
+    /* S2 = I - Gbar_AA Ebar_AA: changed columns anew, the others in the new rows */
+    for (int64_t b = 0; b < n1; b++) {
+        double *Fb = s->F + b * ld;
+        int64_t r0 = chg[b] ? 0 : n0;
+        if (r0 == n1) continue;
+        for (int64_t r = r0; r < n1; r++) Fb[r] = r == b;
+        for (int64_t t = s->ep[b]; t < s->ep[b + 1]; t++) {
+            const double *Gq = s->Ga + (int64_t)s->ei[t] * ld;
+            double v = s->ex[t];
+            for (int64_t r = r0; r < n1; r++) Fb[r] -= v * Gq[r];
         }
+        double cs = r0 ? s->cs[b] : 0;
+        for (int64_t r = r0; r < n1; r++) cs += fabs(Fb[r]);
+        s->cs[b] = cs;
     }
-    /* S2 = I - Gbar_AA Ebar_AA, Ebar taken column by column over its nonzeros */
-    s->nnzE = 0;
-    for (int64_t bq = 0; bq < na; bq++) {
-        double *S2b = S2 + bq * na;
-        for (int64_t i = 0; i < na; i++) S2b[i] = 0;
-        S2b[bq] = 1;
-        const double *Eb = c->E + (int64_t)s->A[bq] * c->cap;
-        for (int64_t cq = 0; cq < na; cq++) {
-            double ecb = Eb[s->A[cq]];
-            if (ecb == 0) continue;
-            s->nnzE++;
-            const double *Gc = Ga + cq * na;
-            for (int64_t i = 0; i < na; i++) S2b[i] -= Gc[i] * ecb;
-        }
-    }
-    double anorm = 0;
-    for (int64_t bq = 0; bq < na; bq++) {
-        double cs = 0;
-        for (int64_t i = 0; i < na; i++) cs += fabs(S2[i + bq * na]);
-        if (cs > anorm) anorm = cs;
-    }
-    lapack_int info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, (lapack_int)na, (lapack_int)na, S2,
-                                     (lapack_int)na, s->ipiv);
-    if (info < 0) return aug_err_set(e, AUG_EUSAGE, -1, "UPDT", "dgetrf: argument %d", (int)-info);
+    free(chg);
+    chg = NULL;
+    if (k0 == n1 && s->nlu == n1) goto done; /* nothing changed */
+    int info = k0 > 0 ? update_lu(s, n0, n1, k0) : full_lu(s, n1);
+    if (info == -2) info = full_lu(s, n1);
+    if (info < 0) return aug_err_set(e, AUG_EUSAGE, -1, "UPDT", "dgetrf: argument %d", -info);
+    s->stamp = c->napply;
     if (info > 0) {
+        s->nlu = 0;
         s->singular = 1;
         s->rcond = 0;
         return 0;
     }
-    double rc = 0;
-    LAPACKE_dgecon(LAPACK_COL_MAJOR, '1', (lapack_int)na, S2, (lapack_int)na, anorm, &rc);
-    s->rcond = rc;
+    s->nlu = n1;
+done:
+    s->stamp = c->napply;
+    if (n1 == 0) return 0;
+    ld = s->scap;
     int sign = 1;
-    for (int64_t i = 0; i < na; i++) {
-        if (S2[i + i * na] < 0) sign = -sign;
+    for (int64_t i = 0; i < n1; i++) {
+        if (s->S2[i + i * ld] < 0) sign = -sign;
         if (s->ipiv[i] != i + 1) sign = -sign;
     }
     s->detsign = sign;
+    if (s->want_rcond || rcond_min > 0) {
+        double anorm = 0, rc = 0;
+        for (int64_t b = 0; b < n1; b++)
+            if (s->cs[b] > anorm) anorm = s->cs[b];
+        LAPACKE_dgecon(LAPACK_COL_MAJOR, '1', (lapack_int)n1, s->S2, (lapack_int)ld, anorm, &rc);
+        s->rcond = rc;
+        if (rc < rcond_min) s->singular = 1;
+    }
     /* det S2 = det Gbar det M (M: Schur complement of K_t on A, SPD iff K_t is) */
-    if (rc < rcond_min || sign < 0) s->singular = 1;
+    if (sign < 0) s->singular = 1;
     return 0;
+nomem:
+    free(chg);
+    aug_schur_free(s);
+    return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (S2 %lld)", (long long)n1);
 }
 
 /* x := S2^-1 x with the LU factors */
@@ -128,6 +298,6 @@ void aug_schur_solve(const aug_schur *s, double *x)
 {
     int64_t na = s->na;
     if (na == 0) return;
-    LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', (lapack_int)na, 1, s->S2, (lapack_int)na, s->ipiv, x,
+    LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', (lapack_int)na, 1, s->S2, (lapack_int)s->scap, s->ipiv, x,
                    (lapack_int)na);
 }

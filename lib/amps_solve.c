@@ -147,10 +147,15 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
     for (int64_t t = 0; t < cnt; t++) {
         int64_t i = out ? out[t] : t;
         int32_t p = c->pos[i];
-        if (i < c->nb && (p < 0 || !s->act[p])) u[i] = b->a[i] + y[b->pinv[i]];
-        else if (p >= 0 && !s->act[p]) u[i] = c->dF[p];
+        /* a base DOF of A too takes its value from the back-substitution, not
+           from a2: the rows of K_t across the cut then see one consistent
+           field (a2 and the back-substituted value differ by the rounding of
+           H'K^-1H, amplified by ||K||) */
+        if (i < c->nb) u[i] = b->a[i] + y[b->pinv[i]];
+        else if (!s->act[p]) u[i] = c->dF[p];
     }
-    for (int64_t aq = 0; aq < s->na; aq++) u[c->S[s->A[aq]]] = x[aq];
+    for (int64_t aq = 0; aq < s->na; aq++)
+        if (c->S[s->A[aq]] >= c->nb) u[c->S[s->A[aq]]] = x[aq];
     a->closure_v = 0;
     for (int64_t j = 0; j < M->m; j++)
         if (M->vp[j + 1] > M->vp[j]) {
@@ -192,6 +197,7 @@ int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
     for (int64_t i = 0; i < c->nb; i++) x[i] += y[b->pinv[i]];
     for (int64_t p = 0; p < c->ns; p++)
         if (c->S[p] >= c->nb) x[c->S[p]] += wp[p];
-    for (int64_t aq = 0; aq < s->na; aq++) x[c->S[s->A[aq]]] = xa[aq];
+    for (int64_t aq = 0; aq < s->na; aq++)
+        if (c->S[s->A[aq]] >= c->nb) x[c->S[s->A[aq]]] = xa[aq];
     return 0;
 }

@@ -26,6 +26,8 @@ typedef struct aug_cum {
     int64_t pcap;
     double *E;           /* Ebar = Kbar - K_t on S x S, column-major, leading dim cap */
     double *dF;          /* f_t - [f_b; 0] on S */
+    int64_t *mod;        /* mod[p]: value of napply when Ebar(:, p) last changed */
+    int64_t napply;      /* number of updates composed */
 } aug_cum;
 
 int aug_cum_init(aug_cum *c, int64_t nb, aug_err *e);
@@ -163,18 +165,33 @@ int aug_memo_grow(aug_memo *M, const aug_base *b, aug_err *e);
 
 /* S2 of eq. 3.21 on the active positions A of S (Ebar column nonzero: the
    Dirichlet/load-only positions drop out, sec. 3.4), LU-factored by LAPACK
-   (amps_schur.c). */
+   and kept across steps (amps_schur.c): A only grows, in activation order,
+   and a step changes the columns of Ebar on its own positions only, so the
+   factorization is updated from the first changed column on (block LU:
+   the leading columns keep their pivots, the new rows are solved against
+   U11, the trailing block is re-eliminated), not re-done. */
 typedef struct aug_schur {
     int64_t na, acap;
     int32_t *A;          /* active positions of S, in activation order */
     unsigned char *act;  /* act[pos] */
+    int32_t *aidx;       /* aidx[pos]: index in A or -1 (size pcap) */
     int64_t pcap;
-    double *S2;          /* na x na LU factors */
+    int32_t *gi;         /* gi[a]: memo column of A[a], -1 for a new DOF */
+    double *S2;          /* LU factors of S2, leading dim scap */
+    double *F;           /* S2 itself, leading dim scap */
+    double *Ga;          /* Gbar_AA, leading dim scap */
+    double *cs;          /* column sums of |S2| */
     int *ipiv;
-    double *Ga;          /* scratch: Gbar_AA */
-    double *sr;          /* row and column scalings (2 na) */
     int64_t scap;
-    double rcond;
+    int64_t *ep;         /* Ebar_AA by columns: rows ei, values ex */
+    int32_t *ei;
+    double *ex;
+    int64_t ecap;
+    int64_t nlu;         /* order of the valid factorization, 0: none */
+    int64_t stamp;       /* aug_cum napply it reflects */
+    int64_t k0;          /* last step: first re-eliminated column (0: full) */
+    int want_rcond;      /* estimate rcond (dgecon, O(na^2)) */
+    double rcond;        /* NaN unless estimated */
     int detsign;
     int singular;
     int64_t nnzE;
@@ -182,9 +199,10 @@ typedef struct aug_schur {
 
 void aug_schur_init(aug_schur *s);
 void aug_schur_free(aug_schur *s);
-/* Form S2 = I - Gbar_AA Ebar_AA and factor it; singular is set when LU fails,
-   rcond < rcond_min, or det(S2) <= 0 (K_t not positive definite: S2 =
-   Gbar M with M the Schur complement of K_t on A). */
+/* Bring S2 = I - Gbar_AA Ebar_AA and its factorization up to date with c;
+   singular is set when LU fails, rcond < rcond_min (when estimated), or
+   det(S2) <= 0 (K_t not positive definite: S2 = Gbar M with M the Schur
+   complement of K_t on A). */
 int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double rcond_min,
                      aug_err *e);
 /* x := S2^-1 x (length na). */

@@ -22,6 +22,7 @@ void aug_cum_free(aug_cum *c)
     free(c->pos);
     free(c->E);
     free(c->dF);
+    free(c->mod);
     memset(c, 0, sizeof *c);
 }
 
@@ -44,6 +45,9 @@ static int grow_s(aug_cum *c, int64_t need)
     double *dF = aug_realloc(c->dF, (size_t)nc * sizeof *dF);
     if (!dF) return -1;
     c->dF = dF;
+    int64_t *mod = aug_realloc(c->mod, (size_t)nc * sizeof *mod);
+    if (!mod) return -1;
+    c->mod = mod;
     double *E = aug_calloc((size_t)nc * (size_t)nc, sizeof *E);
     if (!E) return -1;
     for (int64_t j = 0; j < c->ns; j++)
@@ -97,14 +101,20 @@ int aug_cum_apply(aug_cum *c, const aug_update *u, aug_err *e)
             c->pos[idx] = (int32_t)p;
             c->S[p] = idx;
             c->dF[p] = 0;
+            c->mod[p] = 0;
             for (int64_t q = 0; q <= p; q++) c->E[q + p * c->cap] = c->E[p + q * c->cap] = 0;
         }
         map[i] = c->pos[idx];
     }
+    c->napply++;
     for (int64_t j = 0; j < s; j++) {
         double *Ej = c->E + (int64_t)map[j] * c->cap;
-        for (int64_t i = 0; i < s; i++) Ej[map[i]] += u->E[i + j * s];
-        if (j >= m) Ej[map[j]] += 1.0;
+        for (int64_t i = 0; i < s; i++)
+            if (u->E[i + j * s] != 0) {
+                Ej[map[i]] += u->E[i + j * s];
+                c->mod[map[i]] = c->mod[map[j]] = c->napply;
+            }
+        if (j >= m) Ej[map[j]] += 1.0, c->mod[map[j]] = c->napply;
         c->dF[map[j]] += u->df[j];
     }
     c->n += k;

@@ -105,6 +105,7 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     aug_amps_init(&s->amps);
     aug_refactor_init(&s->rf);
     s->amps.memo.use_cholmod = o->reach_cholmod;
+    s->amps.schur.want_rcond = o->check; /* a diagnostic: O(na^2) per step */
     for (int i = 0; i < o->nmeth; i++) s->use[o->order[i]] = 1;
     if ((int64_t)L0->n != (int64_t)K0->nrow) {
         cholmod_free_factor(&L0, cm);
@@ -351,7 +352,8 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
             put(st, "reach_new", (double)s->amps.memo.reach_new);
             put(st, "closure_v", (double)s->amps.closure_v);
             put(st, "closure_out", (double)s->amps.nq);
-            put(st, "rcond", s->amps.schur.rcond);
+            put(st, "s2_from", (double)s->amps.schur.k0);
+            if (!isnan(s->amps.schur.rcond)) put(st, "rcond", s->amps.schur.rcond);
             put(tm, "reach", t[0]), put(tm, "memo", t[1]), put(tm, "schur", t[2]), put(tm, "solve", t[3]);
         } else if (m == AUG_M_GMRES) {
             rc = aug_gmres_step(s->gm, s->base, &s->cum, &s->cut, full ? NULL : out, nout, x, t, e);
