@@ -12,7 +12,7 @@ static const char *synopsis =
     "solve-aug [FILE] [--method LIST] [--check] [--background] [--bg-lag N]\n"
     "          [--output all|surface|SET] [--refine-iter N] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
-    "          [--reach path|cholmod] [--threads N] [-h]";
+    "          [--reach path|cholmod] [--threads N] [--time-full] [-h]";
 
 static const char *help =
     "  FILE                 input stream (default: stdin)\n"
@@ -36,12 +36,15 @@ static const char *help =
     "  --on-singular error|report  a singular step: exit 1 (default) or report and go on\n"
     "  --reach path|cholmod AMPS V columns: own etree-path solve (default) or cholmod_solve2\n"
     "  --threads N          threads of CHOLMOD and OpenBLAS (default 1)\n"
+    "  --time-full          time one full CHOLMOD solve of the base every step\n"
+    "                       (full_solve_ms; default: the median of 5 at the start)\n"
     "  -h                   this help; see solve-aug(1)\n";
 
 typedef struct options {
     const char *file, *output;
     aug_solver_opts so;
     int on_singular_report;
+    int time_full;
 } options;
 
 static void parse(aug_tool *t, int argc, char **argv, options *o)
@@ -62,6 +65,8 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
             i += v != NULL;
         } else if (!strcmp(a, "--check")) {
             o->so.check = 1;
+        } else if (!strcmp(a, "--time-full")) {
+            o->time_full = 1;
         } else if (!strcmp(a, "--background")) {
             o->so.background = 1;
         } else if (!strcmp(a, "--bg-lag")) {
@@ -282,6 +287,8 @@ static void step(aug_tool *t, state *st, const options *o, const aug_rec *rec)
         aug_tool_write(t, "fELD", u.step, b.p, b.len);
         aug_buf_free(&b);
     }
+    /* the reference a step is compared with, timed next to it (bench) */
+    if (o->time_full) st->full_ms = aug_solver_full_solve_ms(st->s, 1);
     for (int i = 0; i < o->so.nmeth; i++) {
         int mth = o->so.order[i];
         aug_tool_check(t, aug_write_kv(t->w, "sTAt", u.step, aug_solver_stat(st->s, mth), &e), &e);

@@ -9,6 +9,7 @@ void aug_memo_init(aug_memo *M) { memset(M, 0, sizeof *M); }
 void aug_memo_free(aug_memo *M)
 {
     free(M->vp);
+    free(M->vt);
     free(M->vi);
     free(M->vx);
     free(M->col);
@@ -28,6 +29,9 @@ static int grow_cols(aug_memo *M, int64_t need)
     if (!vp) return -1;
     M->vp = vp;
     if (M->mcap == 0) vp[0] = 0;
+    int64_t *vt = aug_realloc(M->vt, (size_t)nc * sizeof *vt);
+    if (!vt) return -1;
+    M->vt = vt;
     int32_t *col = aug_realloc(M->col, (size_t)nc * sizeof *col);
     if (!col) return -1;
     M->col = col;
@@ -119,16 +123,36 @@ int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_com
         goto nomem;
     }
     int rc = 0;
-    for (int64_t p = 0; p < c->ns && !rc; p++) {
-        if (c->S[p] >= c->nb || M->cpos[p] >= 0) continue;
+    /* with a supernodal factor the new columns go in groups through
+       aug_ldl_paths_solve_super, their paths stored first */
+    enum { GROUP = 32 };
+    int32_t gp[GROUP];
+    int32_t *gpath[GROUP];
+    int64_t glen[GROUP], goff[GROUP];
+    double *gout[GROUP];
+    int ng = 0, grouped = tmp && !M->use_cholmod;
+    for (int64_t p = 0; p <= c->ns && !rc; p++) {
+        int last = p == c->ns;
+        if (!last && (c->S[p] >= c->nb || M->cpos[p] >= 0)) continue;
+        if (grouped && ng > 0 && (last || ng == GROUP)) {
+            for (int q = 0; q < ng; q++) gpath[q] = M->vi + goff[q], gout[q] = M->vx + goff[q];
+            if (aug_ldl_paths_solve_super(b, ng, gp, gpath, glen, gout))
+                rc = aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (V)");
+            ng = 0;
+        }
+        if (last || rc) break;
         int32_t j = b->pinv[c->S[p]];
-        int64_t len = aug_ldl_path(b, j, path), at = M->vp[M->m];
+        int64_t at = M->vp[M->m], len = aug_ldl_path(b, j, path);
         if (grow_vals(M, at + len)) {
             rc = aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (V)");
             break;
         }
         memcpy(M->vi + at, path, (size_t)len * sizeof *path);
-        if (M->use_cholmod) {
+        if (grouped) {
+            /* offsets, not pointers: vi/vx may move while the group fills */
+            gp[ng] = j, glen[ng] = len, goff[ng] = at;
+            ng++;
+        } else if (M->use_cholmod) {
             if (cholmod_column(b, j, path, len, M->vx + at, &X, &Xset, &Y, &Ew, cm))
                 rc = aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_solve2 failed");
         } else if (tmp) {
@@ -136,6 +160,9 @@ int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_com
         } else {
             path_solve(b, path, len, x, M->vx + at);
         }
+        int64_t tl = len - 1;
+        while (tl > 0 && path[tl - 1] == path[tl] - 1) tl--;
+        M->vt[M->m] = at + tl;
         M->col[M->m] = (int32_t)p;
         M->cpos[p] = (int32_t)M->m;
         M->vp[++M->m] = at + len;

@@ -64,20 +64,21 @@ static int scratch(aug_amps *a, const aug_base *b, const aug_cum *c)
     return 0;
 }
 
-/* w[c] = (Ebar x)(col c) over the memo columns, wn[p] over all positions */
+/* wp = Ebar x over all positions: nonzero on A only (Ebar(p, b) != 0 makes p
+   active), so S2's column lists of Ebar_AA suffice */
 static void ebar_times(const aug_amps *a, const aug_cum *c, const double *x, double *wp)
 {
     const aug_schur *s = &a->schur;
     for (int64_t p = 0; p < c->ns; p++) wp[p] = 0;
     for (int64_t bq = 0; bq < s->na; bq++) {
-        const double *Eb = c->E + (int64_t)s->A[bq] * c->cap;
         double xb = x[bq];
         if (xb == 0) continue;
-        for (int64_t p = 0; p < c->ns; p++) wp[p] += Eb[p] * xb;
+        for (int64_t t = s->ep[bq]; t < s->ep[bq + 1]; t++) wp[s->A[s->ei[t]]] += s->ex[t] * xb;
     }
 }
 
-/* y (permuted, n_b) = D^-1 sum_c V(:,c) w(col c) */
+/* y (permuted, n_b) = D^-1 sum_c V(:,c) w(col c); the consecutive tail of a
+   column (the top of the tree) as a dense axpy */
 static void v_times(const aug_amps *a, const aug_base *b, const double *wp, double *y)
 {
     const aug_memo *M = &a->memo;
@@ -85,7 +86,14 @@ static void v_times(const aug_amps *a, const aug_base *b, const double *wp, doub
     for (int64_t j = 0; j < M->m; j++) {
         double wj = wp[M->col[j]];
         if (wj == 0) continue;
-        for (int64_t t = M->vp[j]; t < M->vp[j + 1]; t++) y[M->vi[t]] += M->vx[t] * wj;
+        int64_t t = M->vp[j], te = M->vt[j];
+        for (; t < te; t++) y[M->vi[t]] += M->vx[t] * wj;
+        te = M->vp[j + 1];
+        if (t < te) {
+            double *yt = y + M->vi[t];
+            const double *vx = M->vx + t;
+            for (int64_t k = 0; k < te - t; k++) yt[k] += vx[k] * wj;
+        }
     }
     aug_ldl_dsolve(b, NULL, 0, y);
 }

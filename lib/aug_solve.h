@@ -123,6 +123,12 @@ void aug_ldl_dsolve(const aug_base *b, const int32_t *set, int64_t k, double *x)
    all 0) and tmp (size n) are workspace; x is all 0 again on return. */
 void aug_ldl_path_solve_super(const aug_base *b, int32_t p, const int32_t *path, int64_t len,
                               double *x, double *tmp, double *out);
+/* r columns of V at once (BLAS 3 where their paths share supernodes, as
+   the paths of one node's DOFs and the top of the tree always do):
+   outs[q][t] = V(paths[q][t], p[q]), lens[q] = path lengths from
+   aug_ldl_path. Returns 0 or -1 (out of memory). */
+int aug_ldl_paths_solve_super(const aug_base *b, int r, const int32_t *p, int32_t *const *paths,
+                              const int64_t *lens, double *const *outs);
 /* x := L^-T x over all columns, given x = D^-1 z: through the supernodal
    factor Ls = L D^1/2 when the base has one (BLAS), else column by column.
    X/Yw/Ew are cholmod_solve2 workspaces kept by the caller. Returns 0 or -1. */
@@ -142,6 +148,8 @@ void aug_ldl_solve_full(const aug_base *b, const double *rhs, double *x, double 
 typedef struct aug_memo {
     int64_t m, mcap;     /* columns (base DOFs of S, in S order) */
     int64_t *vp;         /* column c: entries vp[c] .. vp[c+1]-1 */
+    int64_t *vt;         /* vt[c]: start of the tail of column c whose rows are
+                            consecutive (the top of the tree, dense) */
     int32_t *vi;         /* permuted row indices (ascending: the etree path) */
     double *vx;
     int64_t vnz, vcap;

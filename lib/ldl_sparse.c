@@ -265,6 +265,88 @@ void aug_ldl_path_solve_super(const aug_base *b, int32_t p, const int32_t *path,
     }
 }
 
+/* B := T^-1 B, T lower triangular (n x n, leading dim ldt), B n x r: blocked
+   by NB columns so that nearly all the work is one dgemm per block (OpenBLAS's
+   dtrsm is slow for the few right-hand sides of a step) */
+static void trsm_lower(int n, int r, const double *T, int ldt, double *B, int ldb)
+{
+    enum { NB = 64 };
+    for (int k = 0; k < n; k += NB) {
+        int kb = n - k < NB ? n - k : NB;
+        cblas_dtrsm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasNonUnit, kb, r, 1.0,
+                    T + k + (size_t)k * ldt, ldt, B + k, ldb);
+        if (k + kb < n)
+            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n - k - kb, r, kb, -1.0,
+                        T + k + kb + (size_t)k * ldt, ldt, B + k, ldb, 1.0, B + k + kb, ldb);
+    }
+}
+
+/* Ls X = E_P supernode by supernode over the union of the paths, in
+   increasing order: per supernode one triangular solve and one product on
+   all r right-hand sides (a right-hand side whose path enters the supernode
+   further down is zero above its entry and stays so). X is n x r row-major,
+   so a row's r values are adjacent for the scatter. */
+int aug_ldl_paths_solve_super(const aug_base *b, int r, const int32_t *p, int32_t *const *paths,
+                              const int64_t *lens, double *const *outs)
+{
+    const cholmod_factor *L = b->Ls;
+    const int *sup = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    int64_t ns = (int64_t)L->nsuper, nmax = 0, list_n = 0;
+    int32_t *entry = aug_malloc((size_t)ns * sizeof *entry), *list = NULL;
+    double *X = aug_calloc((size_t)b->n * (size_t)r, sizeof *X), *B = NULL, *T = NULL;
+    if (!entry || !X) goto nomem;
+    for (int64_t s = 0; s < ns; s++) entry[s] = -1;
+    for (int q = 0; q < r; q++)
+        for (int64_t t = 0; t < lens[q]; t++) {
+            int32_t j = paths[q][t], s = b->super_of[j];
+            if (entry[s] < 0) list_n++;
+            if (entry[s] < 0 || j - sup[s] < entry[s]) entry[s] = j - sup[s];
+        }
+    list = aug_malloc((size_t)(list_n ? list_n : 1) * sizeof *list);
+    if (!list) goto nomem;
+    list_n = 0;
+    for (int64_t s = 0; s < ns; s++)
+        if (entry[s] >= 0) {
+            list[list_n++] = (int32_t)s;
+            int64_t nr = pi[s + 1] - pi[s];
+            if (nr > nmax) nmax = nr;
+        }
+    B = aug_malloc((size_t)(nmax ? nmax : 1) * (size_t)r * sizeof *B);
+    T = aug_malloc((size_t)(nmax ? nmax : 1) * (size_t)r * sizeof *T);
+    if (!B || !T) goto nomem;
+    for (int q = 0; q < r; q++) X[(int64_t)p[q] * r + q] = 1.0;
+    for (int64_t l = 0; l < list_n; l++) {
+        int32_t s = list[l];
+        int k1 = sup[s], nscol = sup[s + 1] - k1, nsrow = pi[s + 1] - pi[s], o = entry[s];
+        int nc = nscol - o, nb = nsrow - nscol;
+        const double *A = Lx + px[s];
+        for (int i = 0; i < nc; i++)
+            for (int q = 0; q < r; q++) B[i + (int64_t)q * nc] = X[(int64_t)(k1 + o + i) * r + q];
+        trsm_lower(nc, r, A + o + (size_t)o * nsrow, nsrow, B, nc);
+        for (int i = 0; i < nc; i++)
+            for (int q = 0; q < r; q++) X[(int64_t)(k1 + o + i) * r + q] = B[i + (int64_t)q * nc];
+        if (nb == 0) continue;
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, nb, r, nc, 1.0,
+                    A + nscol + (size_t)o * nsrow, nsrow, B, nc, 0.0, T, nb);
+        const int *rows = Ls + pi[s] + nscol;
+        for (int i = 0; i < nb; i++) {
+            double *Xr = X + (int64_t)rows[i] * r;
+            for (int q = 0; q < r; q++) Xr[q] -= T[i + (int64_t)q * nb];
+        }
+    }
+    for (int q = 0; q < r; q++)
+        for (int64_t t = 0; t < lens[q]; t++) {
+            int32_t j = paths[q][t];
+            outs[q][t] = X[(int64_t)j * r + q] * b->sqrtd[j];
+        }
+    free(entry), free(list), free(X), free(B), free(T);
+    return 0;
+nomem:
+    free(entry), free(list), free(X), free(B), free(T);
+    return -1;
+}
+
 /* x := L^-T x = Ls^-T (D^1/2 x) when the supernodal factor exists */
 int aug_ldl_ltsolve_all(const aug_base *b, double *x, cholmod_dense **X, cholmod_dense **Yw,
                         cholmod_dense **Ew, cholmod_common *cm)
