@@ -313,17 +313,29 @@ typedef struct aug_bg aug_bg;
 aug_bg *aug_bg_new(int nthreads);
 void aug_bg_free(aug_bg *bg);
 /* Start re-factoring K (taken) with load f (copied) in a thread; step is the
-   step whose matrix K is. 0 or error (a job is running). */
-/* perm (may be NULL): a fill-reducing ordering of K to reuse (the old base's
-   permutation extended by the DOFs added since), saving CHOLMOD's ordering. */
+   step whose matrix K is. perm (may be NULL): a fill-reducing ordering of K to
+   reuse (the old base's permutation extended by the DOFs added since), saving
+   CHOLMOD's ordering. amps (0: no, 1: own path solve, 2: cholmod_solve2
+   reach): once factored, the thread also catches AMPS up with the updates
+   pushed since the start (aug_bg_push): their composed update and the memo
+   of V columns and H'K^-1H for the new base, so that the swap step does not
+   pay for them. 0 or error (a job is running). */
 int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, const int32_t *perm,
-                 int32_t step, aug_err *e);
+                 int32_t step, int amps, aug_err *e);
+/* Queue a copy of the update of a step taken while the job runs. */
+int aug_bg_push(aug_bg *bg, const aug_update *u, aug_err *e);
 int aug_bg_running(const aug_bg *bg);
 /* 1 when the job finished (without waiting), 0 otherwise. */
 int aug_bg_done(aug_bg *bg);
 /* Wait for the job; returns the new base (caller owns a reference), or NULL
-   with e filled (e.g. the matrix was not positive definite). */
+   with e filled (e.g. the matrix was not positive definite; the queue is
+   dropped). */
 aug_base *aug_bg_join(aug_bg *bg, aug_err *e);
+/* After a successful join: the composed update of the queued steps relative
+   to the new base into c (uninitialized on entry), and the AMPS state the
+   thread prepared into a (freed or never initialized on entry; a fresh one
+   when the thread prepared none, with use_cholmod set as started). */
+int aug_bg_take(aug_bg *bg, int64_t nb, aug_cum *c, aug_amps *a, aug_err *e);
 int32_t aug_bg_step(const aug_bg *bg);
 
 /* ---- the session (solver.c) -------------------------------------------- */

@@ -1,5 +1,9 @@
 /* Background re-factorization (paper 000 sec. 3.6): a thread factors the cut
-   matrix of a past step while steps go on; its factor becomes the new base. */
+   matrix of a past step while steps go on; its factor becomes the new base.
+   Once the factor is ready the thread also catches AMPS up with the steps
+   taken meanwhile (their composed update, the V columns and H'K^-1H for the
+   new base), batch after batch until the queue is drained, so the swap step
+   only adds what came in the last moments. */
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -18,6 +22,15 @@ struct aug_bg {
     aug_base *base;
     aug_err err;
     int nthreads;
+    /* updates of the steps taken while the job runs (main thread appends) */
+    pthread_mutex_t mu;
+    aug_update *q;
+    int nq, qcap;
+    int applied;         /* queued updates composed into cum by the thread */
+    int amps;            /* prepare AMPS: 0 no, 1 path reach, 2 cholmod reach */
+    int have_cum, have_amps;
+    aug_cum cum;
+    aug_amps am;
 };
 
 aug_bg *aug_bg_new(int nthreads)
@@ -26,10 +39,25 @@ aug_bg *aug_bg_new(int nthreads)
     if (!bg) return NULL;
     bg->nthreads = nthreads;
     atomic_init(&bg->done, 0);
+    if (pthread_mutex_init(&bg->mu, NULL)) {
+        free(bg);
+        return NULL;
+    }
     cholmod_start(&bg->cm);
     bg->cm.error_handler = NULL;
     bg->cm.print = 0;
     return bg;
+}
+
+/* the queue and whatever the thread prepared (no job running) */
+static void drop(aug_bg *bg)
+{
+    for (int i = 0; i < bg->nq; i++) aug_update_free(&bg->q[i]);
+    bg->nq = 0;
+    bg->applied = 0;
+    if (bg->have_cum) aug_cum_free(&bg->cum);
+    if (bg->have_amps) aug_amps_free(&bg->am);
+    bg->have_cum = bg->have_amps = 0;
 }
 
 void aug_bg_free(aug_bg *bg)
@@ -40,8 +68,49 @@ void aug_bg_free(aug_bg *bg)
         aug_base *b = aug_bg_join(bg, &e);
         if (b) aug_base_release(b, &bg->cm);
     }
+    drop(bg);
+    free(bg->q);
+    pthread_mutex_destroy(&bg->mu);
     cholmod_finish(&bg->cm);
     free(bg);
+}
+
+/* compose the queued updates and grow the memo for them, until none is left;
+   any failure just leaves the work to the swap step */
+static void catch_up(aug_bg *bg)
+{
+    aug_err e;
+    if (aug_cum_init(&bg->cum, bg->base->n, &e)) return;
+    bg->have_cum = 1;
+    aug_amps_init(&bg->am);
+    bg->am.memo.use_cholmod = bg->amps == 2;
+    bg->have_amps = 1;
+    aug_update *batch = NULL;
+    for (;;) {
+        pthread_mutex_lock(&bg->mu);
+        int lo = bg->applied, hi = bg->nq;
+        aug_update *nbat = hi > lo ? aug_realloc(batch, (size_t)(hi - lo) * sizeof *batch) : batch;
+        /* shallow copies: the arrays they point to live until the join */
+        if (nbat) memcpy(nbat, bg->q + lo, (size_t)(hi - lo) * sizeof *nbat);
+        pthread_mutex_unlock(&bg->mu);
+        if (hi == lo || !nbat) break;
+        batch = nbat;
+        for (int i = 0; i < hi - lo; i++) {
+            if (aug_cum_apply(&bg->cum, &batch[i], &e)) goto fail;
+            bg->applied++;
+        }
+        if (aug_memo_reach(&bg->am.memo, bg->base, &bg->cum, &bg->cm, &e) ||
+            aug_memo_grow(&bg->am.memo, bg->base, &e))
+            goto fail;
+    }
+    free(batch);
+    return;
+fail:
+    free(batch);
+    aug_cum_free(&bg->cum);
+    aug_amps_free(&bg->am);
+    bg->have_cum = bg->have_amps = 0;
+    bg->applied = 0;
 }
 
 /* P K P' = L D L' (CHOLMOD's ordering and supernodal choice, converted to
@@ -71,14 +140,16 @@ static void *work(void *arg)
     free(bg->perm);
     bg->f = NULL;
     bg->perm = NULL;
+    if (bg->base && bg->amps) catch_up(bg);
     atomic_store(&bg->done, 1);
     return NULL;
 }
 
 int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, const int32_t *perm,
-                 int32_t step, aug_err *e)
+                 int32_t step, int amps, aug_err *e)
 {
     if (bg->running) return aug_err_set(e, AUG_EUSAGE, -1, "", "a background job is running");
+    drop(bg);
     int64_t n = (int64_t)K->nrow;
     bg->f = aug_malloc((size_t)(n + 1) * sizeof *bg->f);
     bg->perm = perm ? aug_malloc((size_t)(n + 1) * sizeof *bg->perm) : NULL;
@@ -89,9 +160,9 @@ int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, const int32_t *
     }
     memcpy(bg->f, f, (size_t)n * sizeof *f);
     for (int64_t i = 0; perm && i < n; i++) bg->perm[i] = perm[i];
-    /* the matrix was allocated by the caller's cholmod_common: copy it into ours */
     bg->K = K;
     bg->step = step;
+    bg->amps = amps;
     bg->base = NULL;
     aug_err_clear(&bg->err);
     atomic_store(&bg->done, 0);
@@ -107,6 +178,37 @@ int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, const int32_t *
     return 0;
 }
 
+int aug_bg_push(aug_bg *bg, const aug_update *u, aug_err *e)
+{
+    int64_t s = (int64_t)u->m + u->k;
+    aug_update d;
+    aug_update_init(&d);
+    d.step = u->step, d.m = u->m, d.k = u->k;
+    d.H = aug_malloc((size_t)(u->m + 1) * sizeof *d.H);
+    d.E = aug_malloc((size_t)(s * s + 1) * sizeof *d.E);
+    d.df = aug_malloc((size_t)(s + 1) * sizeof *d.df);
+    if (!d.H || !d.E || !d.df) goto nomem;
+    memcpy(d.H, u->H, (size_t)u->m * sizeof *d.H);
+    memcpy(d.E, u->E, (size_t)(s * s) * sizeof *d.E);
+    memcpy(d.df, u->df, (size_t)s * sizeof *d.df);
+    pthread_mutex_lock(&bg->mu);
+    if (bg->nq == bg->qcap) {
+        int c = bg->qcap ? 2 * bg->qcap : 16;
+        aug_update *q = aug_realloc(bg->q, (size_t)c * sizeof *q);
+        if (!q) {
+            pthread_mutex_unlock(&bg->mu);
+            goto nomem;
+        }
+        bg->q = q, bg->qcap = c;
+    }
+    bg->q[bg->nq++] = d;
+    pthread_mutex_unlock(&bg->mu);
+    return 0;
+nomem:
+    aug_update_free(&d);
+    return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+}
+
 int aug_bg_running(const aug_bg *bg) { return bg->running; }
 int32_t aug_bg_step(const aug_bg *bg) { return bg->step; }
 
@@ -120,8 +222,33 @@ aug_base *aug_bg_join(aug_bg *bg, aug_err *e)
     }
     pthread_join(bg->th, NULL);
     bg->running = 0;
-    if (!bg->base) *e = bg->err;
+    if (!bg->base) {
+        *e = bg->err;
+        drop(bg);
+    }
     aug_base *b = bg->base;
     bg->base = NULL;
     return b;
+}
+
+int aug_bg_take(aug_bg *bg, int64_t nb, aug_cum *c, aug_amps *a, aug_err *e)
+{
+    int rc = 0;
+    if (bg->have_cum) {
+        *c = bg->cum;
+    } else if (aug_cum_init(c, nb, e)) {
+        rc = -1;
+    }
+    if (bg->have_amps) {
+        *a = bg->am;
+    } else {
+        aug_amps_init(a);
+        a->memo.use_cholmod = bg->amps == 2;
+    }
+    int from = bg->have_cum ? bg->applied : 0;
+    bg->have_cum = bg->have_amps = 0;
+    for (int i = from; i < bg->nq && !rc; i++)
+        if (aug_cum_apply(c, &bg->q[i], e)) rc = -1;
+    drop(bg);
+    return rc ? e->code : 0;
 }

@@ -54,8 +54,6 @@ struct aug_solver {
     aug_cutmat cut;
     aug_base *base;
     aug_cum cum;
-    aug_update *hist;
-    int nhist, hcap;
     aug_amps amps;
     aug_gmres *gm;
     aug_refactor rf;
@@ -71,26 +69,6 @@ struct aug_solver {
     int32_t step;
 };
 
-static int copy_update(aug_update *d, const aug_update *u)
-{
-    int64_t s = (int64_t)u->m + u->k;
-    aug_update_init(d);
-    d->step = u->step, d->m = u->m, d->k = u->k;
-    d->H = aug_malloc((size_t)(u->m + 1) * sizeof *d->H);
-    d->E = aug_malloc((size_t)(s * s + 1) * sizeof *d->E);
-    d->df = aug_malloc((size_t)(s + 1) * sizeof *d->df);
-    if (!d->H || !d->E || !d->df) return -1;
-    memcpy(d->H, u->H, (size_t)u->m * sizeof *d->H);
-    memcpy(d->E, u->E, (size_t)(s * s) * sizeof *d->E);
-    memcpy(d->df, u->df, (size_t)s * sizeof *d->df);
-    return 0;
-}
-
-static void clear_hist(aug_solver *s)
-{
-    for (int i = 0; i < s->nhist; i++) aug_update_free(&s->hist[i]);
-    s->nhist = 0;
-}
 
 aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
                            const aug_solver_opts *o, cholmod_common *cm, aug_err *e)
@@ -145,8 +123,6 @@ void aug_solver_free(aug_solver *s)
 {
     if (!s) return;
     aug_bg_free(s->bg);
-    clear_hist(s);
-    free(s->hist);
     aug_amps_free(&s->amps);
     aug_gmres_free(s->gm);
     aug_refactor_free(&s->rf, s->cm);
@@ -235,18 +211,18 @@ static int buffers(aug_solver *s, int64_t n)
 }
 
 /* a finished background factor becomes the base: the cumulative update
-   shrinks to the steps after its snapshot (paper 000 fig. 1) */
+   shrinks to the steps after its snapshot (paper 000 fig. 1), and AMPS takes
+   the state the thread prepared for them */
 static int swap_base(aug_solver *s, aug_base *nb, aug_err *e)
 {
     aug_base_release(s->base, s->cm);
     s->base = nb;
     aug_cum_free(&s->cum);
-    if (aug_cum_init(&s->cum, nb->n, e)) return e->code;
-    for (int i = 0; i < s->nhist; i++)
-        if (aug_cum_apply(&s->cum, &s->hist[i], e)) return e->code;
-    clear_hist(s);
-    aug_amps_reset(&s->amps);
-    return 0;
+    int wr = s->amps.schur.want_rcond;
+    aug_amps_free(&s->amps);
+    int rc = aug_bg_take(s->bg, nb->n, &s->cum, &s->amps, e);
+    s->amps.schur.want_rcond = wr;
+    return rc;
 }
 
 static double reldiff(const double *x, const double *r, int64_t n)
@@ -322,20 +298,10 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
         if (nb) {
             if (swap_base(s, nb, e)) return e->code;
             swapped = 1;
-        } else {
-            clear_hist(s);
         }
     }
     if (aug_cum_apply(&s->cum, u, e)) return e->code;
-    if (s->bg && aug_bg_running(s->bg)) {
-        if (s->nhist == s->hcap) {
-            int c = s->hcap ? 2 * s->hcap : 16;
-            aug_update *h = aug_realloc(s->hist, (size_t)c * sizeof *h);
-            if (!h) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-            s->hist = h, s->hcap = c;
-        }
-        if (copy_update(&s->hist[s->nhist++], u)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-    }
+    if (s->bg && aug_bg_running(s->bg) && aug_bg_push(s->bg, u, e)) return e->code;
     /* a step that detaches a piece without Dirichlet support is singular */
     int detached = (flags & AUG_STEP_DETACHED) && !(flags & (AUG_STEP_PINNED | AUG_STEP_DROPPED));
     int nsing = 0;
@@ -462,7 +428,6 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
         double tb = aug_wall_ms();
         cholmod_sparse *K = aug_cutmat_sparse(&s->cut, 0, s->cm);
         if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-        clear_hist(s);
         /* reuse the base's ordering, the DOFs added since it ordered last */
         int64_t nk = (int64_t)K->nrow, nb = s->base->n;
         int32_t *perm = aug_malloc((size_t)(nk + 1) * sizeof *perm);
@@ -472,7 +437,8 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
         }
         memcpy(perm, s->base->perm, (size_t)nb * sizeof *perm);
         for (int64_t i = nb; i < nk; i++) perm[i] = (int32_t)i;
-        int rc = aug_bg_start(s->bg, K, s->f, perm, s->step, e);
+        int amps = s->use[AUG_M_AMPS] ? 1 + s->o.reach_cholmod : 0;
+        int rc = aug_bg_start(s->bg, K, s->f, perm, s->step, amps, e);
         free(perm);
         if (rc) {
             cholmod_free_sparse(&K, s->cm);

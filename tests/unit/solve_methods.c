@@ -103,7 +103,7 @@ static void methods_prec_d(void) { run_methods(AUG_PREC_D, 42, 16); }
 static void methods_prec_spai(void) { run_methods(AUG_PREC_SPAI, 43, 16); }
 
 /* background re-factorization swaps the base every few steps; the fields
-   equal those without it */
+   equal those without it, and the swap step finds AMPS caught up */
 static void background_same_fields(void)
 {
     gsl_rng *r1 = gsl_rng_alloc(gsl_rng_mt19937), *r2 = gsl_rng_alloc(gsl_rng_mt19937);
@@ -118,15 +118,24 @@ static void background_same_fields(void)
     aug_solver *plain = make(&g1, &o);
     o.background = 1, o.bg_lag = 3;
     aug_solver *bg = make(&g2, &o);
-    int swaps = 0;
+    int swaps = 0, caught = 0;
     for (int t = 1; t <= 24 && plain && bg; t++) {
         aug_update u1, u2;
         next(&g1, r1, t, &u1);
         next(&g2, r2, t, &u2);
         aug_err e;
+        int m_step = u2.m;
         T_CHECK(aug_solver_step(plain, &u1, NULL, 0, 0, &e) == 0, "%s", e.msg);
         T_CHECK(aug_solver_step(bg, &u2, NULL, 0, 0, &e) == 0, "%s", e.msg);
         aug_update_free(&u1), aug_update_free(&u2);
+        /* the thread caught AMPS up with the steps since its snapshot: the swap
+           step adds V columns for its own update only */
+        if (aug_kv_get(aug_solver_stat(bg, AUG_M_AMPS), "swapped", 0) == 1) {
+            double mn = aug_kv_get(aug_solver_stat(bg, AUG_M_AMPS), "m_new", 1e9);
+            T_CHECK(mn <= m_step, "step %d: swap step computed %g V columns, its update has %d",
+                    t, mn, m_step);
+            caught++;
+        }
         swaps += (int)aug_kv_get(aug_solver_stat(bg, AUG_M_AMPS), "swapped", 0);
         for (int m = 0; m < 2; m++) {
             double d = reldiff(aug_solver_field(bg, m), aug_solver_field(plain, m), g1.n);
@@ -138,6 +147,7 @@ static void background_same_fields(void)
                     "step %d: swap did not shrink m", t);
     }
     T_CHECK(swaps >= 5, "only %d swaps in 24 steps with lag 3", swaps);
+    T_CHECK(caught == swaps, "%d of %d swaps checked", caught, swaps);
     aug_solver_free(plain), aug_solver_free(bg);
     gen_free(&g1), gen_free(&g2);
     gsl_rng_free(r1), gsl_rng_free(r2);
