@@ -3,7 +3,8 @@
 # planar cut of STEPS steps solved by every method in one run; per step time,
 # residual, closure sizes and GMRES iterations (bench/out/solve_SCENE.csv), a
 # summary of medians and ratios (bench/out/solve_summary.csv) against one full
-# CHOLMOD solve of the same factor (factor's step-0 solve_ms), and PNG plots.
+# CHOLMOD solve of the same factor, timed by solve-aug next to every step
+# (--time-full: the ratio is taken under the same machine load), PNG plots.
 # SCENES / STEPS / METHODS may be set in the environment; QUICK=1 runs brick_n8 only.
 cd "$(dirname "$0")/.." || exit 2
 B=bin; S=build/scenes; O=bench/out; mkdir -p $O
@@ -24,10 +25,10 @@ for sc in $SCENES; do
     [ -f build/scenes/$sc.msh ] || make -s build/scenes/$sc.msh > /dev/null
     $B/meshload $S/$sc.msh --fix fixed --load $load | $B/factor --no-cond > $O/.f.aug || { echo "solve.sh: $sc: factor failed" >&2; continue; }
     $B/cut --plane $plane --advance 0,0,-1 --per-step 1 --steps $steps --pull 0.1 < $O/.f.aug > $O/.c.aug || { echo "solve.sh: $sc: cut failed" >&2; continue; }
-    $B/solve-aug --method $METHODS --tol 1e-8 --maxit $maxit --on-singular report < $O/.c.aug 2>$O/solve_$sc.err |
+    $B/solve-aug --method $METHODS --tol 1e-8 --maxit $maxit --on-singular report --time-full < $O/.c.aug 2>$O/solve_$sc.err |
         $B/stats --csv > $O/solve_$sc.csv || { echo "solve.sh: $sc: solve-aug failed" >&2; continue; }
     # AMPS again with background re-factorization (paper 000 sec. 3.6), as method amps_bg
-    $B/solve-aug --method amps --background < $O/.c.aug 2>>$O/solve_$sc.err | $B/stats --csv |
+    $B/solve-aug --method amps --background --time-full < $O/.c.aug 2>>$O/solve_$sc.err | $B/stats --csv |
         sed '2,$ s/,amps,/,amps_bg,/' > $O/solve_${sc}_bg.csv
     python3 - $O/solve_$sc.csv $sc $O/solve_summary.csv $O/solve_${sc}_bg.csv <<'PY'
 import csv, statistics, sys, math
@@ -61,16 +62,25 @@ PY
                 $c["method"] == m { print $c["step"], 1000 / $c["time_ms"], $c["relres"], $c["iters"] }' \
                 $O/solve_$sc.csv $O/solve_${sc}_bg.csv > $O/.solve_$sc.$m.dat
         done
+        awk -F, 'FNR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+            $c["method"] == "amps" { print $c["step"], $c["reach"], $c["memo"], $c["schur"], $c["solve"], $c["full_solve_ms"] }' \
+            $O/solve_$sc.csv > $O/.solve_$sc.phases.dat
         plots=""; rplots=""
         for m in $(echo $METHODS,amps_bg | tr , ' '); do
             plots="$plots${plots:+, }'$O/.solve_$sc.$m.dat' using 1:2 with linespoints title '$m'"
             rplots="$rplots${rplots:+, }'$O/.solve_$sc.$m.dat' using 1:3 with linespoints title '$m'"
         done
         gnuplot <<GP
-set terminal png size 800,500
+set terminal png size 800,500 noenhanced
 set output '$O/solve_${sc}_rate.png'
 set title 'update rate per cut step, $sc'; set xlabel 'cut step'; set ylabel 'Hz'; set logscale y
 plot $plots
+set output '$O/solve_${sc}_phases.png'
+set title 'AMPS time per phase, $sc'; set ylabel 'ms'; unset logscale y; set key top left
+plot '$O/.solve_$sc.phases.dat' using 1:2 with lines title 'reach (V columns)', \\
+     '' using 1:3 with lines title 'memo (H''K^-1H)', '' using 1:4 with lines title 'schur (S2)', \\
+     '' using 1:5 with lines title 'solve (back-substitution)', '' using 1:6 with lines title 'one full CHOLMOD solve'
+set logscale y; set key default
 set output '$O/solve_${sc}_relres.png'
 set title 'relative residual per cut step, $sc'; set ylabel '||K a - f|| / ||f||'
 plot $rplots

@@ -44,8 +44,9 @@ void aug_dump_free(aug_dump *d);
 int aug_dump_head(FILE *out, const aug_reader *r, aug_err *e);
 /* One record (TAIL included); payloads that do not match their layout fail. */
 int aug_dump_record(FILE *out, aug_dump *d, const aug_rec *rec, aug_err *e);
-/* Name of a CHOLMOD ordering code (FACT ordering field): "amd", "metis", ... */
-const char *aug_ordering_name(int32_t k);
+/* Name of a CHOLMOD ordering code (FACT ordering field): "amd", "metis", ...
+   (factorize.c; declared in aug_fem.h as well) */
+const char *aug_ordering_name(int cholmod_ordering);
 
 /* Per-step table: one row per (step, method) from sTAt and tIMe records with
    the same step and tag; rows in stream order. */

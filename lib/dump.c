@@ -249,21 +249,6 @@ static void d_fvec(FILE *o, const aug_rec *rec)
     arr_f64(o, "v", &c, (uint64_t)n);
 }
 
-/* CHOLMOD's ordering codes (cholmod_core.h) */
-const char *aug_ordering_name(int32_t k)
-{
-    switch (k) {
-    case CHOLMOD_NATURAL: return "natural";
-    case CHOLMOD_GIVEN: return "given";
-    case CHOLMOD_AMD: return "amd";
-    case CHOLMOD_METIS: return "metis";
-    case CHOLMOD_NESDIS: return "nesdis";
-    case CHOLMOD_COLAMD: return "colamd";
-    case CHOLMOD_POSTORDERED: return "postordered";
-    default: return "unknown";
-    }
-}
-
 static void d_fact(FILE *o, const aug_rec *rec)
 {
     aug_cur c;
