@@ -29,6 +29,8 @@ void aug_amps_free(aug_amps *a)
     free(a->y);
     free(a->q);
     free(a->mark);
+    free(a->ca);
+    free(a->t2);
     memset(a, 0, sizeof *a);
 }
 
@@ -54,11 +56,13 @@ static int scratch(aug_amps *a, const aug_base *b, const aug_cum *c)
         if (!a->xcap) return -1;
     }
     if (a->wcap < b->n + 1) {
-        free(a->y), free(a->q), free(a->mark);
+        free(a->y), free(a->q), free(a->mark), free(a->ca), free(a->t2);
         a->y = aug_malloc((size_t)(b->n + 1) * sizeof *a->y);
         a->q = aug_malloc((size_t)(b->n + 1) * sizeof *a->q);
         a->mark = aug_calloc((size_t)(b->n + 1), 1);
-        a->wcap = a->y && a->q && a->mark ? b->n + 1 : 0;
+        a->ca = aug_malloc((size_t)(b->n + 1) * sizeof *a->ca);
+        a->t2 = aug_malloc((size_t)(b->n + 1) * sizeof *a->t2);
+        a->wcap = a->y && a->q && a->mark && a->ca && a->t2 ? b->n + 1 : 0;
         if (!a->wcap) return -1;
     }
     return 0;
@@ -180,29 +184,51 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
     return 0;
 }
 
+/* x = K_t^-1 r by eq. 3.20 with a general right-hand side (iterative
+   refinement). z = D^-1 L^-1 P r once (through the supernodes when the base
+   has them); Kbar^-1 r is needed on A only for the right-hand side of S2, so
+   L^-T runs there over the closure of A in L' (the top of the tree); the
+   correction K^-1 H Ebar a2 joins z before the one full back-substitution:
+   one full solve and a little, not two. */
 int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
                            const double *r, double *x, cholmod_common *cm, aug_err *e)
 {
     if (scratch(a, b, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     const aug_schur *s = &a->schur;
-    double *xa = a->x, *wp = a->w, *y = a->y;
-    /* x = Kbar^-1 r: permute, L^-1 and D^-1 column by column, L^-T through
-       the supernodal factor when there is one */
-    for (int64_t k = 0; k < b->n; k++) y[k] = r[b->perm[k]];
-    aug_ldl_lsolve(b, NULL, 0, y);
-    aug_ldl_dsolve(b, NULL, 0, y);
-    if (aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm))
-        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
-    for (int64_t k = 0; k < b->n; k++) x[b->perm[k]] = y[k];
-    for (int64_t i = c->nb; i < c->n; i++) x[i] = r[i];
-    /* a2 = S2^-1 Hbar'x; x += Kbar^-1 Hbar Ebar a2 */
-    for (int64_t aq = 0; aq < s->na; aq++) xa[aq] = x[c->S[s->A[aq]]];
+    double *xa = a->x, *wp = a->w, *z = a->t2, *y = a->y;
+    for (int64_t k = 0; k < b->n; k++) z[k] = r[b->perm[k]];
+    if (b->Ls) {
+        cholmod_dense B = {0};
+        B.nrow = B.d = B.nzmax = (size_t)b->n, B.ncol = 1;
+        B.x = z, B.xtype = CHOLMOD_REAL, B.dtype = CHOLMOD_DOUBLE;
+        if (!cholmod_solve2(CHOLMOD_L, b->Ls, &B, NULL, &a->X, NULL, &a->Yw, &a->Ew, cm))
+            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
+        const double *u = a->X->x; /* Ls^-1 P r, and D^-1 L^-1 = D^-1/2 Ls^-1 */
+        for (int64_t k = 0; k < b->n; k++) z[k] = u[k] / b->sqrtd[k];
+    } else {
+        aug_ldl_lsolve(b, NULL, 0, z);
+        aug_ldl_dsolve(b, NULL, 0, z);
+    }
+    /* H'Kbar^-1 r: base positions of A from L^-T over the closure of A */
+    int64_t k = 0;
+    for (int64_t aq = 0; aq < s->na; aq++)
+        if (c->S[s->A[aq]] < c->nb) a->q[k++] = b->pinv[c->S[s->A[aq]]];
+    int64_t nca = aug_ldl_closure(b, a->q, k, a->ca, a->mark);
+    for (int64_t t = 0; t < nca; t++) y[a->ca[t]] = z[a->ca[t]];
+    aug_ldl_ltsolve_closure_super(b, a->ca, nca, y, x); /* x: scratch until the end */
+    for (int64_t aq = 0; aq < s->na; aq++) {
+        int32_t i = c->S[s->A[aq]];
+        xa[aq] = i < c->nb ? y[b->pinv[i]] : r[i];
+    }
+    /* a2 = S2^-1 Hbar'Kbar^-1 r; x = Kbar^-1 (r + Hbar Ebar a2) */
     aug_schur_solve(s, xa);
     ebar_times(a, c, xa, wp);
     v_times(a, b, wp, y);
+    for (int64_t t = 0; t < b->n; t++) y[t] += z[t];
     if (aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm))
         return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
-    for (int64_t i = 0; i < c->nb; i++) x[i] += y[b->pinv[i]];
+    for (int64_t i = 0; i < c->nb; i++) x[i] = y[b->pinv[i]];
+    for (int64_t i = c->nb; i < c->n; i++) x[i] = r[i];
     for (int64_t p = 0; p < c->ns; p++)
         if (c->S[p] >= c->nb) x[c->S[p]] += wp[p];
     for (int64_t aq = 0; aq < s->na; aq++)

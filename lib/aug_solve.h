@@ -45,8 +45,8 @@ typedef struct aug_cutmat {
     int64_t n0;
     double *f0;
     aug_cum cum;
-    double *work;        /* n-sized scratch */
-    int64_t wcap;
+    double *work, *rwork; /* n-sized scratch */
+    int64_t wcap, rcap;
 } aug_cutmat;
 
 int aug_cutmat_init(aug_cutmat *m, const cholmod_sparse *K0, const double *f0,
@@ -60,6 +60,11 @@ void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y);
 void aug_cutmat_rhs(const aug_cutmat *m, double *f);
 /* ||K_t x - f_t|| / ||f_t|| (2-norms; absolute residual when f_t = 0). */
 double aug_cutmat_relres(aug_cutmat *m, const double *x);
+/* The part of relres on the rows where K_t differs from K0 (S): O(|S| (|S| +
+   row length)) instead of a product with all of K_t. */
+double aug_cutmat_relres_changed(aug_cutmat *m, const double *x);
+/* r = f_t - K_t x; returns ||r|| / ||f_t|| (absolute when f_t = 0). */
+double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r);
 /* K_t as a CHOLMOD matrix, upper triangle (stype 1), sorted; exact zeros of
    changed entries are dropped. pad extra identity columns are appended. */
 cholmod_sparse *aug_cutmat_sparse(const aug_cutmat *m, int64_t pad, cholmod_common *cm);
@@ -129,6 +134,11 @@ void aug_ldl_path_solve_super(const aug_base *b, int32_t p, const int32_t *path,
    aug_ldl_path. Returns 0 or -1 (out of memory). */
 int aug_ldl_paths_solve_super(const aug_base *b, int r, const int32_t *p, int32_t *const *paths,
                               const int64_t *lens, double *const *outs);
+/* x := L^-T x on the rows of set[0..k) only (an etree closure, ascending, as
+   from aug_ldl_closure), through the supernodes of Ls (BLAS 2 per supernode);
+   rows outside it are left as they are. tmp: n-sized workspace. */
+void aug_ldl_ltsolve_closure_super(const aug_base *b, const int32_t *set, int64_t k, double *x,
+                                   double *tmp);
 /* x := L^-T x over all columns, given x = D^-1 z: through the supernodal
    factor Ls = L D^1/2 when the base has one (BLAS), else column by column.
    X/Yw/Ew are cholmod_solve2 workspaces kept by the caller. Returns 0 or -1. */
@@ -229,6 +239,8 @@ typedef struct aug_amps {
     unsigned char *mark;
     int64_t nq;
     int64_t closure_v;   /* |union of V paths| (closure of H in L) */
+    int32_t *ca;         /* closure of A's base DOFs in L' (permuted, ascending) */
+    double *t2;          /* n_b-sized scratch */
     cholmod_dense *X, *Yw, *Ew; /* cholmod_solve2 workspaces (supernodal path) */
 } aug_amps;
 

@@ -143,6 +143,7 @@ void aug_cutmat_free(aug_cutmat *m, cholmod_common *cm)
     if (m->K0) cholmod_free_sparse(&m->K0, cm);
     free(m->f0);
     free(m->work);
+    free(m->rwork);
     aug_cum_free(&m->cum);
     memset(m, 0, sizeof *m);
 }
@@ -179,25 +180,66 @@ void aug_cutmat_rhs(const aug_cutmat *m, double *f)
     for (int64_t p = 0; p < m->cum.ns; p++) f[m->cum.S[p]] += m->cum.dF[p];
 }
 
-double aug_cutmat_relres(aug_cutmat *m, const double *x)
+double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r)
 {
     int64_t n = m->cum.n;
-    if (m->wcap < 2 * n) {
-        double *w = aug_realloc(m->work, (size_t)(2 * n) * sizeof *w);
+    if (m->wcap < n) {
+        double *w = aug_realloc(m->work, (size_t)n * sizeof *w);
         if (!w) return NAN;
         m->work = w;
-        m->wcap = 2 * n;
+        m->wcap = n;
     }
-    double *y = m->work, *f = m->work + n;
-    aug_cutmat_mult(m, x, y);
+    double *f = m->work;
+    aug_cutmat_mult(m, x, r);
     aug_cutmat_rhs(m, f);
     double rr = 0, ff = 0;
     for (int64_t i = 0; i < n; i++) {
-        double r = f[i] - y[i];
-        rr += r * r;
+        r[i] = f[i] - r[i];
+        rr += r[i] * r[i];
         ff += f[i] * f[i];
     }
     return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
+}
+
+double aug_cutmat_relres_changed(aug_cutmat *m, const double *x)
+{
+    const aug_cum *c = &m->cum;
+    int64_t n = c->n;
+    if (m->wcap < n) {
+        double *w = aug_realloc(m->work, (size_t)n * sizeof *w);
+        if (!w) return NAN;
+        m->work = w;
+        m->wcap = n;
+    }
+    double *f = m->work, ff = 0, rr = 0;
+    aug_cutmat_rhs(m, f);
+    for (int64_t i = 0; i < n; i++) ff += f[i] * f[i];
+    const int *Ap = m->K0->p, *Ai = m->K0->i;
+    const double *Ax = m->K0->x;
+    for (int64_t p = 0; p < c->ns; p++) {
+        int64_t i = c->S[p];
+        double k = 0;
+        if (i < m->n0)
+            for (int t = Ap[i]; t < Ap[i + 1]; t++) k += Ax[t] * x[Ai[t]]; /* row i = column i */
+        else
+            k = x[i];
+        const double *Ep = c->E + p * c->cap; /* row p of the symmetric Ebar */
+        for (int64_t q = 0; q < c->ns; q++) k -= Ep[q] * x[c->S[q]];
+        rr += (f[i] - k) * (f[i] - k);
+    }
+    return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
+}
+
+double aug_cutmat_relres(aug_cutmat *m, const double *x)
+{
+    int64_t n = m->cum.n;
+    if (m->rcap < n) {
+        double *r = aug_realloc(m->rwork, (size_t)n * sizeof *r);
+        if (!r) return NAN;
+        m->rwork = r;
+        m->rcap = n;
+    }
+    return aug_cutmat_residual(m, x, m->rwork);
 }
 
 int64_t aug_cutmat_colmax(const aug_cutmat *m)

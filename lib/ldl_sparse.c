@@ -347,6 +347,49 @@ nomem:
     return -1;
 }
 
+void aug_ldl_ltsolve_closure_super(const aug_base *b, const int32_t *set, int64_t k, double *x,
+                                   double *tmp)
+{
+    if (!b->Ls) {
+        aug_ldl_ltsolve(b, set, k, x);
+        return;
+    }
+    const cholmod_factor *L = b->Ls;
+    const int *sup = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    /* a supernode's rows in a closure are a suffix of its columns (within a
+       supernode the parent of a column is the next one); else column-wise */
+    for (int64_t t = k - 1; t >= 0;) {
+        int32_t s = b->super_of[set[t]];
+        int64_t t0 = t;
+        while (t0 > 0 && set[t0 - 1] >= sup[s]) t0--;
+        if (set[t] != sup[s + 1] - 1 || set[t] - set[t0] != t - t0) {
+            aug_ldl_ltsolve(b, set, k, x);
+            return;
+        }
+        t = t0 - 1;
+    }
+    for (int64_t t = 0; t < k; t++) x[set[t]] *= b->sqrtd[set[t]];
+    for (int64_t t = k - 1; t >= 0;) {
+        int32_t s = b->super_of[set[t]];
+        int k1 = sup[s], nscol = sup[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
+        int64_t t0 = t;
+        while (t0 > 0 && set[t0 - 1] >= k1) t0--;
+        int o = set[t0] - k1, nc = nscol - o, nb = nsrow - nscol;
+        const double *A = Lx + px[s];
+        double *xs = x + k1 + o;
+        if (nb > 0) {
+            const int *rows = Ls + pi[s] + nscol;
+            for (int r = 0; r < nb; r++) tmp[r] = x[rows[r]];
+            cblas_dgemv(CblasColMajor, CblasTrans, nb, nc, -1.0, A + nscol + (size_t)o * nsrow, nsrow,
+                        tmp, 1, 1.0, xs, 1);
+        }
+        cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, nc, A + o + (size_t)o * nsrow,
+                    nsrow, xs, 1);
+        t = t0 - 1;
+    }
+}
+
 /* x := L^-T x = Ls^-T (D^1/2 x) when the supernodal factor exists */
 int aug_ldl_ltsolve_all(const aug_base *b, double *x, cholmod_dense **X, cholmod_dense **Yw,
                         cholmod_dense **Ew, cholmod_common *cm)
