@@ -10,7 +10,8 @@
 
 static const char *synopsis =
     "solve-aug [FILE] [--method LIST] [--check] [--background] [--bg-lag N]\n"
-    "          [--output all|surface|SET] [--refine-iter N] [--tol T] [--maxit N]\n"
+    "          [--output all|surface|SET] [--refine-iter N] [--refine-tol R]\n"
+    "          [--amps-target R] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
     "          [--reach path|cholmod] [--threads N] [--time-full] [-h]";
 
@@ -26,6 +27,8 @@ static const char *help =
     "                       adaptive, see --refine-tol)\n"
     "  --refine-tol R       direct methods refine while relres > R, at most 3 steps,\n"
     "                       each halving it (default 1e-8; 0: never)\n"
+    "  --amps-target R      amps refines once more when its relres exceeds R (default\n"
+    "                       1e-12; 0: off)\n"
     "  --fail-tol F         a direct method whose relres stays above F reports the\n"
     "                       step singular (default 1e-6)\n"
     "  --tol T              relative tolerance of gmres and pcg (default 1e-8)\n"
@@ -81,9 +84,10 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
             if (!v || aug_parse_long(v, &n) || n < 0 || n > 100) aug_tool_usage(t, "--refine-iter needs 0 to 100");
             else o->so.refine_iter = (int)n;
             i += v != NULL;
-        } else if (!strcmp(a, "--refine-tol") || !strcmp(a, "--fail-tol")) {
+        } else if (!strcmp(a, "--refine-tol") || !strcmp(a, "--fail-tol") || !strcmp(a, "--amps-target")) {
             if (!v || aug_parse_double(v, &d) || !(d >= 0 && d < 1)) aug_tool_usage(t, "%s needs a number in [0, 1)", a);
             else if (a[2] == 'r') o->so.refine_tol = d, o->so.refine_max = d > 0 ? 3 : 0;
+            else if (a[2] == 'a') o->so.amps_target = d;
             else o->so.fail_tol = d;
             i += v != NULL;
         } else if (!strcmp(a, "--tol")) {

@@ -367,6 +367,7 @@ typedef struct aug_solver_opts {
     double refine_tol;   /* refine_iter = 0: refine while relres > refine_tol ... */
     int refine_max;      /* ... at most this many steps, while each halves relres */
     double fail_tol;     /* a direct method whose relres stays above this failed */
+    double amps_target;  /* amps refines (once) above this relres even below refine_tol */
     int check;           /* err_direct against a fresh CHOLMOD solve */
     int background;      /* background re-factorization for amps/gmres */
     int bg_lag;          /* > 0: swap exactly bg_lag steps after the start (deterministic) */

@@ -45,6 +45,7 @@ void aug_solver_opts_default(aug_solver_opts *o)
     o->refine_tol = 1e-8;
     o->refine_max = 3;
     o->fail_tol = 1e-6;
+    o->amps_target = 1e-12;
     o->nthreads = 1;
 }
 
@@ -232,7 +233,6 @@ static double reldiff(const double *x, const double *r, int64_t n)
     return q > 0 ? sqrt(d / q) : sqrt(d);
 }
 
-/* x += K_t^-1 (f - K_t x) with the method's own solver, iters times */
 /* Iterative refinement x += K_t^-1 (f_t - K_t x) with method m's own solve:
    refine_iter steps when set, else while relres > refine_tol (at most
    refine_max steps, stopping when a step does not halve it). Returns the
@@ -241,16 +241,28 @@ static int refine(aug_solver *s, int m, double *x, double *rr, aug_err *e)
 {
     int64_t n = s->cut.cum.n;
     int fixed = s->o.refine_iter > 0, it;
-    /* AMPS's solution is one back-substitution off the rows of S, so its
-       residual lies on the rows where K_t differs from K0: a tenth of
-       refine_tol there means no refinement, without a product with all of K_t */
-    if (!fixed && m == AUG_M_AMPS && aug_cutmat_relres_changed(&s->cut, x) <= 0.1 * s->o.refine_tol) {
+    if (!fixed && s->o.refine_max == 0) { /* --refine-tol 0: never */
         *rr = NAN;
         return 0;
     }
+    double tol = s->o.refine_tol, once = 0; /* once: a single step above this */
+    if (!fixed && m == AUG_M_AMPS) {
+        /* the residual AMPS promises on well-conditioned meshes (amps_target):
+           one step when it is missed (near-detached pieces), more only above
+           refine_tol. AMPS's solution is one back-substitution off the rows of
+           S, so its residual lies on the rows where K_t differs from K0: below
+           the limit there, no product with all of K_t is taken */
+        once = s->o.amps_target < tol ? s->o.amps_target : 0;
+        if (aug_cutmat_relres_changed(&s->cut, x) <= (once > 0 ? once : 0.1 * tol)) {
+            *rr = NAN;
+            return 0;
+        }
+    }
     /* the residual vector (s->tmp) and its relative norm in one product */
     double r = aug_cutmat_residual(&s->cut, x, s->tmp);
-    for (it = 0; fixed ? it < s->o.refine_iter : r > s->o.refine_tol && it < s->o.refine_max; it++) {
+    for (it = 0; fixed ? it < s->o.refine_iter
+                       : (r > tol || (it == 0 && once > 0 && r > once)) && it < s->o.refine_max;
+         it++) {
         int rc = 0;
         if (m == AUG_M_AMPS) rc = aug_amps_solve_general(&s->amps, s->base, &s->cum, s->tmp, s->tmp2, s->cm, e);
         else if (m == AUG_M_GMRES) rc = aug_gmres_solve_general(s->gm, s->base, &s->cum, s->tmp, s->tmp2, e);
