@@ -31,7 +31,7 @@ static const char *help =
     "                       1e-12; 0: off)\n"
     "  --fail-tol F         a direct method whose relres stays above F reports the\n"
     "                       step singular (default 1e-6)\n"
-    "  --tol T              relative tolerance of gmres and pcg (default 1e-8)\n"
+    "  --tol T              relres ||K_t a - f_t||/||f_t|| gmres and pcg stop at (default 1e-8)\n"
     "  --maxit N            iteration cap of gmres and pcg (default 10000)\n"
     "  --gmres-prec P       none, D or spai (default D)\n"
     "  --restart N          GMRES restart length (default 100)\n"

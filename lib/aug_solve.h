@@ -272,7 +272,7 @@ int aug_gmres_set_base(aug_gmres *g, const aug_base *b, const cholmod_sparse *Kb
                        aug_err *e);
 /* One step: (Hbar' Kbar^-1 J) a2 = Hbar' Kbar^-1 f_t (eq. 17) with J = K_t Hbar,
    then a1 = Kbar^-1 (f_t - J a2) (eq. 16). times: setup, rhs, iter, solve. */
-int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, const aug_cutmat *cm_t,
+int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat *cm_t,
                    const int32_t *out, int64_t nout, double *u, double times[4], aug_err *e);
 int aug_gmres_solve_general(aug_gmres *g, const aug_base *b, const aug_cum *c,
                             const double *r, double *x, aug_err *e);
