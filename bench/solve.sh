@@ -27,18 +27,21 @@ for sc in $SCENES; do
     $B/cut --plane $plane --advance 0,0,-1 --per-step 1 --steps $steps --pull 0.1 < $O/.f.aug > $O/.c.aug || { echo "solve.sh: $sc: cut failed" >&2; continue; }
     $B/solve-aug --method $METHODS --tol 1e-8 --maxit $maxit --on-singular report --time-full < $O/.c.aug 2>$O/solve_$sc.err |
         $B/stats --csv > $O/solve_$sc.csv || { echo "solve.sh: $sc: solve-aug failed" >&2; continue; }
-    # AMPS again with background re-factorization (paper 000 sec. 3.6), as method amps_bg
+    # AMPS alone (a scene runs one method: its memo and S2 stay in cache, as
+    # they do not between the baselines' steps above), and AMPS with
+    # background re-factorization (paper 000 sec. 3.6), each against the full
+    # solve timed next to its own steps
+    $B/solve-aug --method amps --time-full < $O/.c.aug 2>>$O/solve_$sc.err | $B/stats --csv |
+        sed '2,$ s/,amps,/,amps_alone,/' > $O/solve_${sc}_alone.csv
     $B/solve-aug --method amps --background --time-full < $O/.c.aug 2>>$O/solve_$sc.err | $B/stats --csv |
         sed '2,$ s/,amps,/,amps_bg,/' > $O/solve_${sc}_bg.csv
-    python3 - $O/solve_$sc.csv $sc $O/solve_summary.csv $O/solve_${sc}_bg.csv <<'PY'
+    python3 - $O/solve_$sc.csv $sc $O/solve_summary.csv $O/solve_${sc}_alone.csv $O/solve_${sc}_bg.csv <<'PY'
 import csv, statistics, sys, math
 rows = list(csv.DictReader(open(sys.argv[1])))
-try: rows += [r for r in csv.DictReader(open(sys.argv[4])) if r["method"] == "amps_bg"]
-except OSError: pass
+for extra in sys.argv[4:]:
+    try: rows += [r for r in csv.DictReader(open(extra)) if r["method"] in ("amps_alone", "amps_bg")]
+    except OSError: pass
 sc, out = sys.argv[2], open(sys.argv[3], "a")
-# one full CHOLMOD solve with the same factor, timed by solve-aug in the same run
-full = [float(r["full_solve_ms"]) for r in rows if r["method"] == "amps" and r.get("full_solve_ms")]
-full = statistics.median(full) if full else float("nan")
 n = next((r["n"] for r in rows if r["method"] == "factor"), "")
 def f(r, k):
     try: return float(r[k])
@@ -48,6 +51,10 @@ for r in rows:
     if r["method"] != "factor": by.setdefault(r["method"], []).append(r)
 med = {m: statistics.median([f(r, "time_ms") for r in rs]) for m, rs in by.items()}
 for m, rs in by.items():
+    # one full CHOLMOD solve with the same factor, timed next to every step of
+    # this method's run
+    full = [f(r, "full_solve_ms") for r in rs if r.get("full_solve_ms")]
+    full = statistics.median(full) if full else float("nan")
     it = [f(r, "iters") for r in rs]
     cl = [max(f(r, "closure_v"), f(r, "closure_j")) for r in rs]
     cl = [c for c in cl if not math.isnan(c)]
@@ -57,16 +64,16 @@ for m, rs in by.items():
               statistics.median(it), int(max(cl)) if cl else ""))
 PY
     if command -v gnuplot > /dev/null; then
-        for m in $(echo $METHODS,amps_bg | tr , ' '); do
+        for m in $(echo $METHODS,amps_alone,amps_bg | tr , ' '); do
             awk -F, -v m=$m 'FNR == 1 { delete c; for (i = 1; i <= NF; i++) c[$i] = i; next }
                 $c["method"] == m { print $c["step"], 1000 / $c["time_ms"], $c["relres"], $c["iters"] }' \
-                $O/solve_$sc.csv $O/solve_${sc}_bg.csv > $O/.solve_$sc.$m.dat
+                $O/solve_$sc.csv $O/solve_${sc}_alone.csv $O/solve_${sc}_bg.csv > $O/.solve_$sc.$m.dat
         done
         awk -F, 'FNR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
             $c["method"] == "amps" { print $c["step"], $c["reach"], $c["memo"], $c["schur"], $c["solve"], $c["full_solve_ms"] }' \
             $O/solve_$sc.csv > $O/.solve_$sc.phases.dat
         plots=""; rplots=""
-        for m in $(echo $METHODS,amps_bg | tr , ' '); do
+        for m in $(echo $METHODS,amps_alone,amps_bg | tr , ' '); do
             plots="$plots${plots:+, }'$O/.solve_$sc.$m.dat' using 1:2 with linespoints title '$m'"
             rplots="$rplots${rplots:+, }'$O/.solve_$sc.$m.dat' using 1:3 with linespoints title '$m'"
         done
