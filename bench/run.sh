@@ -8,5 +8,6 @@ run stream_throughput.sh
 run factor.sh
 run cut.sh
 run solve.sh
+run solve_figs.sh
 run refine.sh
 exit $status

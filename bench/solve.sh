@@ -13,7 +13,7 @@ METHODS=${METHODS:-amps,gmres,refactor,rowupdate,pcg}
 if [ "${QUICK:-0}" = 1 ]; then SCENES=${SCENES:-brick_n8}; STEPS=${STEPS:-16}; fi
 SCENES=${SCENES:-"beam_h64 beam_h256 beam_h1024 brick_n8 brick_n12 brick_n16 brick_n20"}
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
-echo "scene,n,method,steps,median_ms,rate_hz,ratio_full_solve,amps_speedup,max_relres,median_iters,max_closure" > $O/solve_summary.csv
+echo "scene,n,method,steps,median_ms,rate_hz,ratio_full_solve,amps_speedup,max_relres,median_iters,max_closure,converged" > $O/solve_summary.csv
 for sc in $SCENES; do
     [ -f $S/$sc.msh ] || { echo "solve.sh: $S/$sc.msh missing, skipped" >&2; continue; }
     case $sc in beam*) load="tip:0,1e-3,0";; *) load="top:0,0,-1";; esac
@@ -56,12 +56,14 @@ for m, rs in by.items():
     full = [f(r, "full_solve_ms") for r in rs if r.get("full_solve_ms")]
     full = statistics.median(full) if full else float("nan")
     it = [f(r, "iters") for r in rs]
-    cl = [max(f(r, "closure_v"), f(r, "closure_j")) for r in rs]
-    cl = [c for c in cl if not math.isnan(c)]
+    cl = [v for r in rs for v in (f(r, "closure_v"), f(r, "closure_j")) if not math.isnan(v)]
     rr = [f(r, "relres") for r in rs]
-    out.write("%s,%s,%s,%d,%.4g,%.4g,%.4g,%.4g,%.3g,%s,%s\n" % (sc, n, m, len(rs), med[m], 1e3 / med[m],
+    # max_relres over every step; converged: steps that met their tolerance
+    # (iterative methods) or were not singular (direct ones)
+    conv = sum(1 for r in rs if r.get("converged") == "1")
+    out.write("%s,%s,%s,%d,%.4g,%.4g,%.4g,%.4g,%.3g,%s,%s,%d\n" % (sc, n, m, len(rs), med[m], 1e3 / med[m],
               med[m] / full, med[m] / med.get("amps", float("nan")), max(rr),
-              statistics.median(it), int(max(cl)) if cl else ""))
+              statistics.median(it), int(max(cl)) if cl else "", conv))
 PY
     if command -v gnuplot > /dev/null; then
         for m in $(echo $METHODS,amps_alone,amps_bg | tr , ' '); do
