@@ -90,11 +90,15 @@ static int activate(aug_schur *s, const aug_memo *M, const aug_cum *c)
 static int grow(aug_schur *s, int64_t need, int64_t n0)
 {
     if (need <= s->scap) return 0;
-    int64_t nc = s->scap ? 2 * s->scap : 64;
+    /* reserved large from the start: untouched pages cost nothing, while a
+       doubling at 512 positions copied and faulted in 3 x 8 MB in one step
+       (24 ms on brick N=16) */
+    int64_t nc = s->scap ? 2 * s->scap : AUG_SCHUR_CAP0;
     while (nc < need) nc *= 2;
-    double *F = aug_malloc((size_t)nc * (size_t)nc * sizeof *F);
-    double *Ga = aug_malloc((size_t)nc * (size_t)nc * sizeof *Ga);
-    double *LU = aug_malloc((size_t)nc * (size_t)nc * sizeof *LU);
+    /* huge pages: 3 x 8 MB at 1024 positions would fault in 4 KiB at a time */
+    size_t bytes = (size_t)nc * (size_t)nc * sizeof(double);
+    double *F = aug_regrow(NULL, 0, bytes), *Ga = aug_regrow(NULL, 0, bytes);
+    double *LU = aug_regrow(NULL, 0, bytes);
     double *cs = aug_realloc(s->cs, (size_t)nc * sizeof *cs);
     if (cs) s->cs = cs;
     int *ipiv = aug_realloc(s->ipiv, (size_t)nc * sizeof *ipiv);

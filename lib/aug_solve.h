@@ -188,6 +188,8 @@ int aug_memo_grow(aug_memo *M, const aug_base *b, aug_err *e);
    factorization is updated from the first changed column on (block LU:
    the leading columns keep their pivots, the new rows are solved against
    U11, the trailing block is re-eliminated), not re-done. */
+/* initial capacity (positions) of S2's and the memo's dense arrays */
+#define AUG_SCHUR_CAP0 1024
 typedef struct aug_schur {
     int64_t na, acap;
     int32_t *A;          /* active positions of S, in activation order */

@@ -2,8 +2,9 @@
    matrix of a past step while steps go on; its factor becomes the new base.
    Once the factor is ready the thread also catches AMPS up with the steps
    taken meanwhile (their composed update, the V columns and H'K^-1H for the
-   new base), batch after batch until the queue is drained, so the swap step
-   only adds what came in the last moments. */
+   new base), batch after batch; when it has caught up it says it is done and
+   keeps up with new steps until the join, which lets it drain the queue: the
+   swap step adds only its own update. */
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -24,6 +25,8 @@ struct aug_bg {
     int nthreads;
     /* updates of the steps taken while the job runs (main thread appends) */
     pthread_mutex_t mu;
+    pthread_cond_t cv;   /* signalled on push and on stop */
+    int stop;            /* the join has begun: drain the queue and return */
     aug_update *q;
     int nq, qcap;
     int applied;         /* queued updates composed into cum by the thread */
@@ -40,6 +43,11 @@ aug_bg *aug_bg_new(int nthreads)
     bg->nthreads = nthreads;
     atomic_init(&bg->done, 0);
     if (pthread_mutex_init(&bg->mu, NULL)) {
+        free(bg);
+        return NULL;
+    }
+    if (pthread_cond_init(&bg->cv, NULL)) {
+        pthread_mutex_destroy(&bg->mu);
         free(bg);
         return NULL;
     }
@@ -70,6 +78,7 @@ void aug_bg_free(aug_bg *bg)
     }
     drop(bg);
     free(bg->q);
+    pthread_cond_destroy(&bg->cv);
     pthread_mutex_destroy(&bg->mu);
     cholmod_finish(&bg->cm);
     free(bg);
@@ -88,6 +97,10 @@ static void catch_up(aug_bg *bg)
     aug_update *batch = NULL;
     for (;;) {
         pthread_mutex_lock(&bg->mu);
+        while (bg->applied == bg->nq && !bg->stop) {
+            atomic_store(&bg->done, 1); /* caught up: the main thread may join */
+            pthread_cond_wait(&bg->cv, &bg->mu);
+        }
         int lo = bg->applied, hi = bg->nq;
         aug_update *nbat = hi > lo ? aug_realloc(batch, (size_t)(hi - lo) * sizeof *batch) : batch;
         /* shallow copies: the arrays they point to live until the join */
@@ -164,6 +177,7 @@ int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, const int32_t *
     bg->step = step;
     bg->amps = amps;
     bg->base = NULL;
+    bg->stop = 0;
     aug_err_clear(&bg->err);
     atomic_store(&bg->done, 0);
     if (pthread_create(&bg->th, NULL, work, bg)) {
@@ -202,6 +216,7 @@ int aug_bg_push(aug_bg *bg, const aug_update *u, aug_err *e)
         bg->q = q, bg->qcap = c;
     }
     bg->q[bg->nq++] = d;
+    pthread_cond_signal(&bg->cv);
     pthread_mutex_unlock(&bg->mu);
     return 0;
 nomem:
@@ -220,6 +235,10 @@ aug_base *aug_bg_join(aug_bg *bg, aug_err *e)
         aug_err_set(e, AUG_EUSAGE, -1, "", "no background job");
         return NULL;
     }
+    pthread_mutex_lock(&bg->mu);
+    bg->stop = 1;
+    pthread_cond_signal(&bg->cv);
+    pthread_mutex_unlock(&bg->mu);
     pthread_join(bg->th, NULL);
     bg->running = 0;
     if (!bg->base) {

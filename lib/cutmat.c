@@ -48,8 +48,9 @@ static int grow_s(aug_cum *c, int64_t need)
     int64_t *mod = aug_realloc(c->mod, (size_t)nc * sizeof *mod);
     if (!mod) return -1;
     c->mod = mod;
-    double *E = aug_calloc((size_t)nc * (size_t)nc, sizeof *E);
+    double *E = aug_regrow(NULL, 0, (size_t)nc * (size_t)nc * sizeof *E); /* huge pages */
     if (!E) return -1;
+    for (int64_t j = 0; j < nc; j++) memset(E + j * nc, 0, (size_t)nc * sizeof *E);
     for (int64_t j = 0; j < c->ns; j++)
         memcpy(E + j * nc, c->E + j * c->cap, (size_t)c->ns * sizeof *E);
     free(c->E);
