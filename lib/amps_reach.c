@@ -121,11 +121,10 @@ int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_com
     if (grow_cols(M, need)) goto nomem;
     int32_t *path = aug_malloc((size_t)b->n * sizeof *path);
     double *x = aug_calloc((size_t)b->n, sizeof *x);
-    double *tmp = b->Ls ? aug_malloc((size_t)b->n * sizeof *tmp) : NULL;
     cholmod_dense *X = NULL, *Y = NULL, *Ew = NULL;
     cholmod_sparse *Xset = NULL;
-    if (!path || !x || (b->Ls && !tmp)) {
-        free(path), free(x), free(tmp);
+    if (!path || !x) {
+        free(path), free(x);
         goto nomem;
     }
     int rc = 0;
@@ -136,7 +135,7 @@ int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_com
     int32_t *gpath[GROUP];
     int64_t glen[GROUP], goff[GROUP];
     double *gout[GROUP];
-    int ng = 0, grouped = tmp && !M->use_cholmod;
+    int ng = 0, grouped = b->Ls && !M->use_cholmod;
     for (int64_t p = 0; p <= c->ns && !rc; p++) {
         int last = p == c->ns;
         if (!last && (c->S[p] >= c->nb || M->cpos[p] >= 0)) continue;
@@ -161,8 +160,6 @@ int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_com
         } else if (M->use_cholmod) {
             if (cholmod_column(b, j, path, len, M->vx + at, &X, &Xset, &Y, &Ew, cm))
                 rc = aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_solve2 failed");
-        } else if (tmp) {
-            aug_ldl_path_solve_super(b, j, path, len, x, tmp, M->vx + at);
         } else {
             path_solve(b, path, len, x, M->vx + at);
         }
@@ -181,7 +178,6 @@ int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_com
     if (Xset) cholmod_free_sparse(&Xset, cm);
     free(path);
     free(x);
-    free(tmp);
     return rc;
 nomem:
     return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (V)");

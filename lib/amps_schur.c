@@ -31,7 +31,6 @@ void aug_schur_free(aug_schur *s)
     int wr = s->want_rcond;
     free(s->A);
     free(s->act);
-    free(s->aidx);
     free(s->gi);
     free(s->S2);
     free(s->F);
@@ -55,10 +54,6 @@ static int activate(aug_schur *s, const aug_memo *M, const aug_cum *c)
         if (!a) return -1;
         memset(a + s->pcap, 0, (size_t)(c->cap - s->pcap));
         s->act = a;
-        int32_t *ai = aug_realloc(s->aidx, (size_t)c->cap * sizeof *ai);
-        if (!ai) return -1;
-        for (int64_t p = s->pcap; p < c->cap; p++) ai[p] = -1;
-        s->aidx = ai;
         s->pcap = c->cap;
     }
     for (int64_t p = 0; p < c->ns; p++) {
@@ -78,7 +73,6 @@ static int activate(aug_schur *s, const aug_memo *M, const aug_cum *c)
             s->acap = nc;
         }
         s->gi[s->na] = c->S[p] < c->nb ? M->cpos[p] : -1;
-        s->aidx[p] = (int32_t)s->na;
         s->A[s->na++] = (int32_t)p;
         s->act[p] = 1;
     }

@@ -34,14 +34,6 @@ void aug_amps_free(aug_amps *a)
     memset(a, 0, sizeof *a);
 }
 
-void aug_amps_reset(aug_amps *a)
-{
-    int uc = a->memo.use_cholmod;
-    aug_memo_free(&a->memo);
-    a->memo.use_cholmod = uc;
-    aug_schur_free(&a->schur);
-}
-
 static double now_ms(void) { return aug_wall_ms(); }
 
 /* scratch: x (na), w (max(m, ns)), y/mark/q (n_b) */

@@ -122,12 +122,6 @@ int64_t aug_ldl_closure(const aug_base *b, const int32_t *start, int64_t ns, int
 void aug_ldl_lsolve(const aug_base *b, const int32_t *set, int64_t k, double *x);
 /* x := D^-1 x over set (NULL: all). */
 void aug_ldl_dsolve(const aug_base *b, const int32_t *set, int64_t k, double *x);
-/* One column of V = L^-1 e_p along the etree path of p through the supernodes
-   of Ls (dense triangular solve and product per supernode, BLAS 2):
-   out[t] = V(path[t], p) for the path written by aug_ldl_path. x (size n,
-   all 0) and tmp (size n) are workspace; x is all 0 again on return. */
-void aug_ldl_path_solve_super(const aug_base *b, int32_t p, const int32_t *path, int64_t len,
-                              double *x, double *tmp, double *out);
 /* r columns of V at once (BLAS 3 where their paths share supernodes, as
    the paths of one node's DOFs and the top of the tree always do):
    outs[q][t] = V(paths[q][t], p[q]), lens[q] = path lengths from
@@ -194,7 +188,6 @@ typedef struct aug_schur {
     int64_t na, acap;
     int32_t *A;          /* active positions of S, in activation order */
     unsigned char *act;  /* act[pos] */
-    int32_t *aidx;       /* aidx[pos]: index in A or -1 (size pcap) */
     int64_t pcap;
     int32_t *gi;         /* gi[a]: memo column of A[a], -1 for a new DOF */
     double *S2;          /* LU factors of S2, leading dim scap */
@@ -248,8 +241,6 @@ typedef struct aug_amps {
 
 void aug_amps_init(aug_amps *a);
 void aug_amps_free(aug_amps *a);
-/* Reset the memo (a new base). */
-void aug_amps_reset(aug_amps *a);
 /* One step. out[0..nout) are requested DOFs of K_t (NULL: all); u receives
    the solution (length c->n, valid at least at the requested DOFs and on S).
    times[0..4]: reach, memo, schur, solve (ms). */

@@ -11,7 +11,6 @@ struct aug_gmres {
     int prec, restart, maxit;
     double tol;
     int iters, converged;
-    double relres;       /* of the whole field after the last step, NaN if not taken */
     double *spai;        /* tridiagonal S ~ K_0^-1: column j holds S(j-1,j), S(j,j), S(j+1,j) */
     int64_t nspai;
     /* per step */
@@ -361,7 +360,6 @@ int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat
     }
     double t2 = aug_wall_ms(), t3 = t2, ts = 0, stol = g->tol;
     g->iters = 0;
-    g->relres = NAN;
     for (int outer = 0;; outer++) {
     /* solution step 2: GMRES on eq. 17 */
     double tg = aug_wall_ms();
@@ -422,9 +420,9 @@ int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat
        factor up to cond(K)), so GMRES goes on, warm, with a tighter one
        until the whole field meets it (whole-field solves only) */
     if (out || !m || !g->converged) break;
-    g->relres = aug_cutmat_relres(m, u);
-    if (g->relres <= g->tol) break;
-    stol *= 0.5 * g->tol / g->relres;
+    double rr = aug_cutmat_relres(m, u);
+    if (rr <= g->tol) break;
+    stol *= 0.5 * g->tol / rr;
     if (stol < 1e-15 || outer == 8) {
         g->converged = 0;
         break;

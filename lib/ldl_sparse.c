@@ -235,36 +235,6 @@ void aug_ldl_ltsolve(const aug_base *b, const int32_t *set, int64_t k, double *x
     }
 }
 
-/* Ls x = e_p supernode by supernode along the path; V = D^1/2 x (Ls = L D^1/2) */
-void aug_ldl_path_solve_super(const aug_base *b, int32_t p, const int32_t *path, int64_t len,
-                              double *x, double *tmp, double *out)
-{
-    const cholmod_factor *L = b->Ls;
-    const int *sup = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
-    const double *Lx = L->x;
-    x[p] = 1.0;
-    for (int32_t j = p; j >= 0;) {
-        int32_t s = b->super_of[j];
-        int k1 = sup[s], nscol = sup[s + 1] - k1, nsrow = pi[s + 1] - pi[s], o = j - k1;
-        const double *A = Lx + px[s];
-        int nc = nscol - o, nb = nsrow - nscol;
-        double *xs = x + k1 + o;
-        cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, nc,
-                    A + o + (size_t)o * nsrow, nsrow, xs, 1);
-        if (nb == 0) break;
-        cblas_dgemv(CblasColMajor, CblasNoTrans, nb, nc, 1.0, A + nscol + (size_t)o * nsrow,
-                    nsrow, xs, 1, 0.0, tmp, 1);
-        const int *rows = Ls + pi[s] + nscol;
-        for (int r = 0; r < nb; r++) x[rows[r]] -= tmp[r];
-        j = rows[0];
-    }
-    for (int64_t t = 0; t < len; t++) {
-        int32_t r = path[t];
-        out[t] = x[r] * b->sqrtd[r];
-        x[r] = 0;
-    }
-}
-
 /* B := T^-1 B, T lower triangular (n x n, leading dim ldt), B n x r: blocked
    by NB columns so that nearly all the work is one dgemm per block (OpenBLAS's
    dtrsm is slow for the few right-hand sides of a step) */

@@ -392,9 +392,10 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
         }
         if (rc) return rc;
         int nref = 0, direct = m == AUG_M_AMPS || m == AUG_M_REFACTOR || m == AUG_M_ROWUPDATE;
+        double rref = NAN; /* the relres refine() computed for x, if it did */
         if (!sing && full && (direct || (m == AUG_M_GMRES && s->o.refine_iter > 0))) {
-            double tr = aug_wall_ms(), r;
-            if ((nref = refine(s, m, x, &r, e)) < 0) return e->code;
+            double tr = aug_wall_ms();
+            if ((nref = refine(s, m, x, &rref, e)) < 0) return e->code;
             if (nref) put(tm, "refine", aug_wall_ms() - tr);
         }
         double total = aug_wall_ms() - t0;
@@ -416,7 +417,7 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
             memcpy(x, s->tmp2, (size_t)n * sizeof *x);
             for (int64_t t2 = 0; t2 < nout; t2++) x[out[t2]] = s->tmp[t2];
         }
-        double rr = sing ? NAN : aug_cutmat_relres(&s->cut, x);
+        double rr = sing ? NAN : !isnan(rref) ? rref : aug_cutmat_relres(&s->cut, x);
         /* a direct method that cannot reach fail_tol, even refined, met a
            numerically singular K_t: report it, never the number */
         if (!sing && direct && !(rr <= s->o.fail_tol)) sing = 1;
