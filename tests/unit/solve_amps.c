@@ -37,61 +37,96 @@ static double reldiff(const double *a, const double *b, int64_t n)
     return sqrt(d / (s > 0 ? s : 1));
 }
 
+/* a generated mesh, its base factor and the composed update of its steps */
+typedef struct fixture {
+    gsl_rng *r;
+    gen g;
+    cholmod_sparse *K0;
+    aug_base *b;
+    aug_cum c;
+    aug_err e;
+} fixture;
+
+static void fix_open(fixture *f, int nx, int ny, int nz, double stiff_jump, unsigned long seed)
+{
+    f->r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(f->r, seed);
+    gen_init(&f->g, nx, ny, nz, stiff_jump, f->r);
+    f->K0 = gen_sparse(&f->g, &cm);
+    cholmod_factor *L0 = cholmod_analyze(f->K0, &cm);
+    cholmod_factorize(f->K0, L0, &cm);
+    f->b = aug_base_new(L0, f->K0, f->g.f, -1, &cm, &f->e);
+    T_CHECK(f->b != NULL, "base: %s", f->e.msg);
+    aug_cum_init(&f->c, f->g.n, &f->e);
+}
+
+/* compose what the generator changed since snapshot s as step t */
+static int fix_commit(fixture *f, gen_snap *s, int t)
+{
+    gen_assemble(&f->g);
+    aug_update u;
+    gen_diff(&f->g, s->K, s->ld, s->f, s->n, t, &u);
+    gen_snap_free(s);
+    int rc = aug_cum_apply(&f->c, &u, &f->e);
+    aug_update_free(&u);
+    return rc;
+}
+
+/* one random_step on the plane x = xc, composed as step t */
+static int fix_random_step(fixture *f, double xc, int t)
+{
+    gen_snap s;
+    gen_snapshot(&f->g, &s);
+    random_step(&f->g, f->r, xc, 1);
+    return fix_commit(f, &s, t);
+}
+
+static void fix_close(fixture *f)
+{
+    aug_cum_free(&f->c);
+    aug_base_release(f->b, &cm);
+    cholmod_free_sparse(&f->K0, &cm);
+    gen_free(&f->g);
+    gsl_rng_free(f->r);
+}
+
 /* run nsteps random steps, checking AMPS every step */
 static void run_sequence(int nx, int ny, int nz, int nsteps, unsigned long seed, int use_cholmod,
                          double stiff_jump, double tol, int check_every, double unref, double *worst)
 {
-    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-    gsl_rng_set(r, seed);
-    gen g;
-    gen_init(&g, nx, ny, nz, stiff_jump, r);
-    cholmod_sparse *K0 = gen_sparse(&g, &cm);
-    cholmod_factor *L0 = cholmod_analyze(K0, &cm);
-    cholmod_factorize(K0, L0, &cm);
-    aug_err e;
-    aug_base *b = aug_base_new(L0, K0, g.f, -1, &cm, &e);
-    T_CHECK(b != NULL, "base: %s", e.msg);
-    base_had_ls = b && b->Ls;
-    aug_cum c;
-    aug_cum_init(&c, g.n, &e);
+    fixture f;
+    fix_open(&f, nx, ny, nz, stiff_jump, seed);
+    base_had_ls = f.b && f.b->Ls;
     aug_amps a;
     aug_amps_init(&a);
     a.memo.use_cholmod = use_cholmod;
     double xc = nx / 2;
     *worst = 0;
-    for (int t = 1; t <= nsteps && b; t++) {
-        gen_snap s;
-        gen_snapshot(&g, &s);
-        random_step(&g, r, xc, 1);
-        gen_assemble(&g);
-        aug_update u;
-        gen_diff(&g, s.K, s.ld, s.f, s.n, t, &u);
-        gen_snap_free(&s);
-        T_CHECK(aug_cum_apply(&c, &u, &e) == 0, "apply: %s", e.msg);
-        aug_update_free(&u);
-        double *x = calloc((size_t)g.n, sizeof *x), tm[4];
-        int rc = aug_amps_step(&a, b, &c, NULL, 0, 1e-14, x, tm, &cm, &e);
-        T_CHECK(rc == 0, "step %d: %s", t, e.msg);
+    for (int t = 1; t <= nsteps && f.b; t++) {
+        T_CHECK(fix_random_step(&f, xc, t) == 0, "apply: %s", f.e.msg);
+        double *x = calloc((size_t)f.g.n, sizeof *x), tm[4];
+        int rc = aug_amps_step(&a, f.b, &f.c, NULL, 0, 1e-14, x, tm, &cm, &f.e);
+        T_CHECK(rc == 0, "step %d: %s", t, f.e.msg);
         T_CHECK(!a.schur.singular, "step %d: S2 reported singular (rcond %g)", t, a.schur.rcond);
         if (t % check_every == 0 || t == nsteps) {
-            double *ref = gen_direct(&g, &cm);
+            double *ref = gen_direct(&f.g, &cm);
             T_CHECK(ref != NULL, "reference solve failed at step %d", t);
             if (ref) {
-                double d = reldiff(x, ref, g.n);
+                double d = reldiff(x, ref, f.g.n);
                 if (d > *worst) *worst = d;
                 T_CHECK(d <= tol, "step %d: rel diff %g > %g (n %lld, na %lld)", t, d, tol,
-                        (long long)g.n, (long long)a.schur.na);
+                        (long long)f.g.n, (long long)a.schur.na);
                 /* relative residual with the generator's dense K_t */
                 double rr = 0, ff = 0;
-                for (int64_t i = 0; i < g.n; i++) {
-                    double s2 = -g.f[i];
-                    for (int64_t j = 0; j < g.n; j++) s2 += g.K[i + j * g.ncap] * x[j];
-                    rr += s2 * s2, ff += g.f[i] * g.f[i];
+                for (int64_t i = 0; i < f.g.n; i++) {
+                    double s2 = -f.g.f[i];
+                    for (int64_t j = 0; j < f.g.n; j++) s2 += f.g.K[i + j * f.g.ncap] * x[j];
+                    rr += s2 * s2, ff += f.g.f[i] * f.g.f[i];
                 }
                 double r2 = 0;
-                for (int64_t i = 0; i < g.n; i++) {
-                    double s2 = -g.f[i];
-                    for (int64_t j = 0; j < g.n; j++) s2 += g.K[i + j * g.ncap] * ref[j];
+                for (int64_t i = 0; i < f.g.n; i++) {
+                    double s2 = -f.g.f[i];
+                    for (int64_t j = 0; j < f.g.n; j++) s2 += f.g.K[i + j * f.g.ncap] * ref[j];
                     r2 += s2 * s2;
                 }
                 /* AMPS is not backward stable in K_t (G = H'K^-1H carries forward
@@ -100,18 +135,18 @@ static void run_sequence(int nx, int ny, int nz, int nsteps, unsigned long seed,
                    10x of it */
                 double lim = fmax(1e-12, unref * sqrt(r2 / ff));
                 T_CHECK(sqrt(rr / ff) <= lim, "step %d: relres %g (direct %g)", t, sqrt(rr / ff), sqrt(r2 / ff));
-                double *res = malloc((size_t)g.n * sizeof *res), *dx = malloc((size_t)g.n * sizeof *dx);
-                for (int64_t i = 0; i < g.n; i++) {
-                    double s2 = g.f[i];
-                    for (int64_t j = 0; j < g.n; j++) s2 -= g.K[i + j * g.ncap] * x[j];
+                double *res = malloc((size_t)f.g.n * sizeof *res), *dx = malloc((size_t)f.g.n * sizeof *dx);
+                for (int64_t i = 0; i < f.g.n; i++) {
+                    double s2 = f.g.f[i];
+                    for (int64_t j = 0; j < f.g.n; j++) s2 -= f.g.K[i + j * f.g.ncap] * x[j];
                     res[i] = s2;
                 }
-                T_CHECK(aug_amps_solve_general(&a, b, &c, res, dx, &cm, &e) == 0, "%s", e.msg);
+                T_CHECK(aug_amps_solve_general(&a, f.b, &f.c, res, dx, &cm, &f.e) == 0, "%s", f.e.msg);
                 rr = 0;
-                for (int64_t i = 0; i < g.n; i++) x[i] += dx[i];
-                for (int64_t i = 0; i < g.n; i++) {
-                    double s2 = -g.f[i];
-                    for (int64_t j = 0; j < g.n; j++) s2 += g.K[i + j * g.ncap] * x[j];
+                for (int64_t i = 0; i < f.g.n; i++) x[i] += dx[i];
+                for (int64_t i = 0; i < f.g.n; i++) {
+                    double s2 = -f.g.f[i];
+                    for (int64_t j = 0; j < f.g.n; j++) s2 += f.g.K[i + j * f.g.ncap] * x[j];
                     rr += s2 * s2;
                 }
                 lim = fmax(1e-12, 10 * sqrt(r2 / ff));
@@ -123,11 +158,7 @@ static void run_sequence(int nx, int ny, int nz, int nsteps, unsigned long seed,
         free(x);
     }
     aug_amps_free(&a);
-    aug_cum_free(&c);
-    aug_base_release(b, &cm);
-    cholmod_free_sparse(&K0, &cm);
-    gen_free(&g);
-    gsl_rng_free(r);
+    fix_close(&f);
 }
 
 static void amps_matches_direct(void)
@@ -167,48 +198,27 @@ static void amps_material_jump(void)
 /* the closure solve on a few DOFs equals the full solve there */
 static void amps_output_closure(void)
 {
-    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-    gsl_rng_set(r, 21);
-    gen g;
-    gen_init(&g, 4, 4, 6, 1.0, r);
-    cholmod_sparse *K0 = gen_sparse(&g, &cm);
-    cholmod_factor *L0 = cholmod_analyze(K0, &cm);
-    cholmod_factorize(K0, L0, &cm);
-    aug_err e;
-    aug_base *b = aug_base_new(L0, K0, g.f, -1, &cm, &e);
-    aug_cum c;
-    aug_cum_init(&c, g.n, &e);
+    fixture f;
+    fix_open(&f, 4, 4, 6, 1.0, 21);
     aug_amps a;
     aug_amps_init(&a);
     for (int t = 1; t <= 12; t++) {
-        gen_snap s;
-        gen_snapshot(&g, &s);
-        random_step(&g, r, 2, 1);
-        gen_assemble(&g);
-        aug_update u;
-        gen_diff(&g, s.K, s.ld, s.f, s.n, t, &u);
-        gen_snap_free(&s);
-        aug_cum_apply(&c, &u, &e);
-        aug_update_free(&u);
-        double *full = calloc((size_t)g.n, sizeof *full), *part = calloc((size_t)g.n, sizeof *part), tm[4];
-        aug_amps_step(&a, b, &c, NULL, 0, 1e-14, full, tm, &cm, &e);
+        T_CHECK(fix_random_step(&f, 2, t) == 0, "apply: %s", f.e.msg);
+        double *full = calloc((size_t)f.g.n, sizeof *full), *part = calloc((size_t)f.g.n, sizeof *part), tm[4];
+        aug_amps_step(&a, f.b, &f.c, NULL, 0, 1e-14, full, tm, &cm, &f.e);
         int32_t out[5];
-        for (int i = 0; i < 5; i++) out[i] = (int32_t)((i * 37 + t * 11) % g.n);
+        for (int i = 0; i < 5; i++) out[i] = (int32_t)((i * 37 + t * 11) % f.g.n);
         for (int i = 1; i < 5; i++)
             for (int j = i; j > 0 && out[j] < out[j - 1]; j--) { int32_t tt = out[j]; out[j] = out[j - 1]; out[j - 1] = tt; }
-        aug_amps_step(&a, b, &c, out, 5, 1e-14, part, tm, &cm, &e);
-        T_CHECK(a.nq < b->n, "closure %lld not smaller than n %lld", (long long)a.nq, (long long)b->n);
+        aug_amps_step(&a, f.b, &f.c, out, 5, 1e-14, part, tm, &cm, &f.e);
+        T_CHECK(a.nq < f.b->n, "closure %lld not smaller than n %lld", (long long)a.nq, (long long)f.b->n);
         for (int i = 0; i < 5; i++)
             T_CHECK(t_reldiff(part[out[i]], full[out[i]]) < 1e-12 || fabs(part[out[i]] - full[out[i]]) < 1e-15,
                     "step %d dof %d: %g vs %g", t, out[i], part[out[i]], full[out[i]]);
         free(full), free(part);
     }
     aug_amps_free(&a);
-    aug_cum_free(&c);
-    aug_base_release(b, &cm);
-    cholmod_free_sparse(&K0, &cm);
-    gen_free(&g);
-    gsl_rng_free(r);
+    fix_close(&f);
 }
 
 /* S2's factorization carried across steps (kept leading columns, new rows
@@ -216,43 +226,26 @@ static void amps_output_closure(void)
    S2 at every step, and the carried path is actually taken */
 static void amps_s2_update_matches_fresh(void)
 {
-    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-    gsl_rng_set(r, 41);
-    gen g;
-    gen_init(&g, 4, 4, 6, 1.0, r);
-    cholmod_sparse *K0 = gen_sparse(&g, &cm);
-    cholmod_factor *L0 = cholmod_analyze(K0, &cm);
-    cholmod_factorize(K0, L0, &cm);
-    aug_err e;
-    aug_base *b = aug_base_new(L0, K0, g.f, -1, &cm, &e);
-    aug_cum c;
-    aug_cum_init(&c, g.n, &e);
-    aug_amps a, f;
+    fixture f;
+    fix_open(&f, 4, 4, 6, 1.0, 41);
+    aug_amps a, fr; /* fr: a fresh LU of the whole S2 every step */
     aug_amps_init(&a);
-    aug_amps_init(&f);
+    aug_amps_init(&fr);
     int partial = 0, kept = 0;
     double worst = 0;
     for (int t = 1; t <= 40; t++) {
-        gen_snap s;
-        gen_snapshot(&g, &s);
-        random_step(&g, r, 2, 1);
-        gen_assemble(&g);
-        aug_update u;
-        gen_diff(&g, s.K, s.ld, s.f, s.n, t, &u);
-        gen_snap_free(&s);
-        aug_cum_apply(&c, &u, &e);
-        aug_update_free(&u);
-        double *x = calloc((size_t)g.n, sizeof *x), *y = calloc((size_t)g.n, sizeof *y), tm[4];
+        T_CHECK(fix_random_step(&f, 2, t) == 0, "apply: %s", f.e.msg);
+        double *x = calloc((size_t)f.g.n, sizeof *x), *y = calloc((size_t)f.g.n, sizeof *y), tm[4];
         int64_t before = a.schur.nlu;
-        T_CHECK(aug_amps_step(&a, b, &c, NULL, 0, 0, x, tm, &cm, &e) == 0, "%s", e.msg);
+        T_CHECK(aug_amps_step(&a, f.b, &f.c, NULL, 0, 0, x, tm, &cm, &f.e) == 0, "%s", f.e.msg);
         if (a.schur.k0 > 0 && before > 0) partial++, kept += (int)a.schur.k0;
-        aug_schur_free(&f.schur); /* a fresh LU of the whole S2 */
-        T_CHECK(aug_amps_step(&f, b, &c, NULL, 0, 0, y, tm, &cm, &e) == 0, "%s", e.msg);
-        T_CHECK(f.schur.k0 == 0 && f.schur.na == a.schur.na, "step %d: fresh LU not full", t);
-        T_CHECK(a.schur.singular == f.schur.singular && a.schur.detsign == f.schur.detsign,
-                "step %d: singular %d/%d, det sign %d/%d", t, a.schur.singular, f.schur.singular,
-                a.schur.detsign, f.schur.detsign);
-        double d = reldiff(x, y, g.n);
+        aug_schur_free(&fr.schur);
+        T_CHECK(aug_amps_step(&fr, f.b, &f.c, NULL, 0, 0, y, tm, &cm, &f.e) == 0, "%s", f.e.msg);
+        T_CHECK(fr.schur.k0 == 0 && fr.schur.na == a.schur.na, "step %d: fresh LU not full", t);
+        T_CHECK(a.schur.singular == fr.schur.singular && a.schur.detsign == fr.schur.detsign,
+                "step %d: singular %d/%d, det sign %d/%d", t, a.schur.singular, fr.schur.singular,
+                a.schur.detsign, fr.schur.detsign);
+        double d = reldiff(x, y, f.g.n);
         if (d > worst) worst = d;
         T_CHECK(d <= 1e-12, "step %d: carried vs fresh LU differ by %g", t, d);
         free(x), free(y);
@@ -261,56 +254,34 @@ static void amps_s2_update_matches_fresh(void)
     fprintf(stderr, "# carried S2 factorization on %d of 40 steps, %d columns kept, worst diff %.2g\n",
             partial, kept, worst);
     aug_amps_free(&a);
-    aug_amps_free(&f);
-    aug_cum_free(&c);
-    aug_base_release(b, &cm);
-    cholmod_free_sparse(&K0, &cm);
-    gen_free(&g);
-    gsl_rng_free(r);
+    aug_amps_free(&fr);
+    fix_close(&f);
 }
 
 /* a node left without elements makes K_t singular: S2 says so */
 static void amps_singular_step(void)
 {
-    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-    gsl_rng_set(r, 31);
-    gen g;
-    gen_init(&g, 3, 3, 4, 1.0, r);
-    cholmod_sparse *K0 = gen_sparse(&g, &cm);
-    cholmod_factor *L0 = cholmod_analyze(K0, &cm);
-    cholmod_factorize(K0, L0, &cm);
-    aug_err e;
-    aug_base *b = aug_base_new(L0, K0, g.f, -1, &cm, &e);
-    aug_cum c;
-    aug_cum_init(&c, g.n, &e);
+    fixture f;
+    fix_open(&f, 3, 3, 4, 1.0, 31);
     aug_amps a;
     aug_amps_init(&a);
     gen_snap s;
-    gen_snapshot(&g, &s);
+    gen_snapshot(&f.g, &s);
     int64_t p = (int64_t)(3 * 4 * 4 + 4 + 1); /* an interior node at z = 3 */
-    gen_cut_node(&g, p, 1.5, 1);
+    gen_cut_node(&f.g, p, 1.5, 1);
     /* the copy takes every element: the copy is fine, p itself has none */
-    gen_assemble(&g);
-    aug_update u;
-    gen_diff(&g, s.K, s.ld, s.f, s.n, 1, &u);
-    gen_snap_free(&s);
-    aug_cum_apply(&c, &u, &e);
-    aug_update_free(&u);
-    double *x = calloc((size_t)g.n, sizeof *x), tm[4];
-    int rc = aug_amps_step(&a, b, &c, NULL, 0, 1e-14, x, tm, &cm, &e);
-    T_CHECK(rc == 0, "%s", e.msg);
+    T_CHECK(fix_commit(&f, &s, 1) == 0, "apply: %s", f.e.msg);
+    double *x = calloc((size_t)f.g.n, sizeof *x), tm[4];
+    int rc = aug_amps_step(&a, f.b, &f.c, NULL, 0, 1e-14, x, tm, &cm, &f.e);
+    T_CHECK(rc == 0, "%s", f.e.msg);
     T_CHECK(a.schur.singular, "singular step not detected (rcond %g, det sign %d)", a.schur.rcond,
             a.schur.detsign);
-    double *ref = gen_direct(&g, &cm);
+    double *ref = gen_direct(&f.g, &cm);
     T_CHECK(ref == NULL, "reference factorization unexpectedly succeeded");
     free(ref);
     free(x);
     aug_amps_free(&a);
-    aug_cum_free(&c);
-    aug_base_release(b, &cm);
-    cholmod_free_sparse(&K0, &cm);
-    gen_free(&g);
-    gsl_rng_free(r);
+    fix_close(&f);
 }
 
 int main(void)
