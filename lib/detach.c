@@ -104,6 +104,21 @@ static int full_rank(const double *G, int R)
     return mx > 0 && mn > RANK_TOL * mx;
 }
 
+/* piece[] and queue[] for ne elements (with room for the elements cuts add) */
+static int reserve(aug_pieces *out, int64_t ne)
+{
+    if (ne <= out->cap) return 0;
+    int64_t nc = ne + ne / 4 + 64;
+    int32_t *a = aug_realloc(out->piece, (size_t)nc * sizeof *a);
+    if (!a) return -1;
+    out->piece = a;
+    a = aug_realloc(out->queue, (size_t)nc * sizeof *a);
+    if (!a) return -1;
+    out->queue = a;
+    out->cap = nc;
+    return 0;
+}
+
 /* one piece holding every element: do its constraints (m's and extra's) stop
    all rigid motions? 1 unsupported, 0 supported */
 static int single_unsupported(const aug_mesh *m, const aug_adj *adj, const aug_bdelta *extra)
@@ -166,15 +181,7 @@ int aug_detach_find_one(const aug_mesh *m, const aug_adj *adj, const aug_bdelta 
     out->size[0] = ne;
     if (!single_unsupported(m, adj, extra)) return 0;
     out->bad[out->nbad++] = 0;
-    if (ne > out->cap) {
-        int32_t *a = aug_realloc(out->piece, (size_t)ne * sizeof *a);
-        if (!a) goto nomem;
-        out->piece = a;
-        a = aug_realloc(out->queue, (size_t)ne * sizeof *a);
-        if (!a) goto nomem;
-        out->queue = a;
-        out->cap = ne;
-    }
+    if (reserve(out, ne)) goto nomem;
     memset(out->piece, 0, (size_t)ne * sizeof *out->piece);
     return 0;
 nomem:
@@ -209,16 +216,7 @@ int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn
     out->bad = out->first = NULL;
     out->size = NULL;
     out->np = out->nbad = 0;
-    if (ne > out->cap) {
-        int64_t nc = ne + ne / 4 + 64;
-        int32_t *a = aug_realloc(out->piece, (size_t)nc * sizeof *a);
-        if (!a) goto nomem;
-        out->piece = a;
-        a = aug_realloc(out->queue, (size_t)nc * sizeof *a);
-        if (!a) goto nomem;
-        out->queue = a;
-        out->cap = nc;
-    }
+    if (reserve(out, ne)) goto nomem;
     queue = out->queue;
     /* face-connected pieces: union-find over face neighbours in one sweep
        (queue[] holds the forest), then pieces numbered by their least element */
