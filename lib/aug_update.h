@@ -63,7 +63,7 @@ int aug_mesh_apply(aug_mesh *m, const aug_mdelta *d, aug_err *e);
    nfree0 + (node - nn0)*dim + c. */
 int64_t aug_cut_index(const aug_mesh *m, int64_t nn0, const int32_t *map0, int64_t nfree0,
                       int64_t node, int c);
-/* The UPDT of mesh delta d applied to mesh `before` (eq. 3.1; lib/update_build.c):
+/* The UPDT of mesh delta d applied to mesh `before` (eq. 3.1; lib/cut/update_build.c):
    H = the old matrix indices whose row of K or whose load changes (among the DOFs
    of changed elements), k = dim * d->nnew, E = -(K_t - [K_{t-1} 0; 0 0]) on Hbar
    (new-new block: -K_t), df = f_t - [f_{t-1}; 0] on Hbar; K_t, f_t as assembled

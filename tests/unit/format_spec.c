@@ -1,4 +1,4 @@
-/* formats/stream.md's record table and lib/stream.c's table agree row by row. */
+/* formats/stream.md's record table and lib/stream/stream.c's table agree row by row. */
 #include <string.h>
 #include "augcut.h"
 #include "t.h"
@@ -40,7 +40,7 @@ static void test_table_matches_spec(void)
         trim(mn);
         trim(mx);
         const aug_rectype *t = aug_rectype_find(type);
-        T_CHECK(t != NULL, "spec row %s missing from lib/stream.c", type);
+        T_CHECK(t != NULL, "spec row %s missing from lib/stream/stream.c", type);
         if (!t) continue;
         rows++;
         int ph = !strcmp(phase, "any") ? -1 : atoi(phase);

@@ -1,6 +1,6 @@
 /* refine in 3-D: a cube of Kuhn tetrahedra, a split step that puts a node near
    the end of an edge (slivers, as a split-mode cut makes them), then conformal
-   longest-edge bisection (lib/bisect3d.c): every face in at most two tets with
+   longest-edge bisection (lib/refine/bisect3d.c): every face in at most two tets with
    opposite orientations and open faces only on the cube's surface, volume kept,
    every tet positive, the worst tet never worse (slivers with a short edge are
    left: no bisection improves them), fewer bad tets where splits help; the

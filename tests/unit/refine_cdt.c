@@ -1,4 +1,4 @@
-/* Local constrained Delaunay triangulation (lib/cdt_local.c): Bowyer-Watson
+/* Local constrained Delaunay triangulation (lib/refine/cdt_local.c): Bowyer-Watson
    insertion, segment recovery, Lawson flips, checked against brute-force
    definitions (empty circumcircles, conformity, area, visibility). */
 #include <gsl/gsl_rng.h>

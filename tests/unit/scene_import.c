@@ -1,4 +1,4 @@
-/* Unit tests of aug_import (tagged mesh -> aug_mesh) and the scene options (lib/scene.c). */
+/* Unit tests of aug_import (tagged mesh -> aug_mesh) and the scene options (lib/mesh/scene.c). */
 #include <string.h>
 #include "aug_scene.h"
 #include "t.h"
