@@ -278,7 +278,18 @@ done:
         double anorm = 0, rc = 0;
         for (int64_t b = 0; b < n1; b++)
             if (s->cs[b] > anorm) anorm = s->cs[b];
-        LAPACKE_dgecon(LAPACK_COL_MAJOR, '1', (lapack_int)n1, s->S2, (lapack_int)ld, anorm, &rc);
+        /* own 64-byte aligned workspaces: OpenBLAS's kernels round differently
+           with the alignment of LAPACKE's malloc'ed ones (last-bit noise) */
+        void *w = NULL, *iw = NULL;
+        if (posix_memalign(&w, 64, (size_t)(4 * n1) * sizeof(double)) ||
+            posix_memalign(&iw, 64, (size_t)n1 * sizeof(lapack_int))) {
+            free(w);
+            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+        }
+        LAPACKE_dgecon_work(LAPACK_COL_MAJOR, '1', (lapack_int)n1, s->S2, (lapack_int)ld, anorm,
+                            &rc, w, iw);
+        free(w);
+        free(iw);
         s->rcond = rc;
         if (rc < rcond_min) s->singular = 1;
     }
