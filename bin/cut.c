@@ -4,7 +4,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <gsl/gsl_rng.h>
 #include "augcut.h"
 #include "cli/aug_tool.h"
 
@@ -202,114 +201,22 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     aug_tool_usage_done(t, synopsis);
 }
 
-static void kv(aug_tool *t, aug_kv *k, const char *key, double v)
-{
-    if (aug_kv_set(k, key, v)) aug_tool_die(t, "too many values in one record");
-}
-
-static void write_path(aug_tool *t, int32_t step, int dim, const double *seg, int64_t nseg)
-{
-    aug_buf b;
-    aug_err e;
-    aug_buf_init(&b);
-    aug_buf_i32(&b, dim);
-    aug_buf_i32(&b, 0);
-    aug_buf_i64(&b, nseg);
-    aug_buf_f64v(&b, seg, (size_t)(nseg * 2 * dim));
-    if (b.failed) aug_tool_die(t, "out of memory");
-    aug_tool_check(t, aug_write(t->w, "pATH", step, b.p, b.len, &e), &e);
-    aug_buf_free(&b);
-}
-
-/* a random plane: normal uniform on the sphere (circle in 2-D), through a point
-   in the middle half of the bounding box */
-static void random_plane(const aug_mesh *m, long seed, double *n)
-{
-    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-    gsl_rng_set(r, (unsigned long)seed);
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, s = 0;
-    for (int64_t i = 0; i < m->nn; i++)
-        for (int k = 0; k < m->dim; k++) {
-            lo[k] = fmin(lo[k], m->x[i * m->dim + k]);
-            hi[k] = fmax(hi[k], m->x[i * m->dim + k]);
-        }
-    do {
-        s = 0;
-        for (int k = 0; k < 3; k++) {
-            n[k] = k < m->dim ? 2 * gsl_rng_uniform(r) - 1 : 0;
-            s += n[k] * n[k];
-        }
-    } while (s > 1 || s < 1e-4);
-    n[3] = 0;
-    for (int k = 0; k < m->dim; k++) {
-        n[k] /= sqrt(s);
-        n[3] += n[k] * (lo[k] + (0.25 + 0.5 * gsl_rng_uniform(r)) * (hi[k] - lo[k]));
-    }
-    gsl_rng_free(r);
-}
-
-typedef struct state {
-    aug_mesh m;
-    int started;
-    int64_t nn0, nfree0;
-    int32_t *map0;
-    int32_t last_step;
-    int have_dofm;
-} state;
-
-/* the original mesh is complete: fix the cut-matrix numbering */
-static void start(aug_tool *t, state *s)
+/* --constrain of step k: a set or a box, to 0 or to given values */
+static void constrain(aug_tool *t, const options *o, aug_mesh *m, long k, aug_bdelta *bc)
 {
     aug_err e;
-    if (s->started) return;
-    if (!(s->m.have & AUG_HAVE_NODE) || !(s->m.have & AUG_HAVE_ELEM))
-        aug_tool_die(t, "%s: the stream has no mesh (NODE and ELEM records)", t->inname);
-    aug_tool_check(t, aug_mesh_validate(&s->m, &e), &e);
-    s->nn0 = s->m.nn;
-    s->map0 = malloc((size_t)(s->m.nn * s->m.dim) * sizeof *s->map0 + 1);
-    if (!s->map0) aug_tool_die(t, "out of memory");
-    s->nfree0 = aug_dofmap(&s->m, s->map0);
-    s->started = 1;
-}
-
-static void absorb(aug_tool *t, state *s, const aug_rec *rec)
-{
-    aug_err e;
-    const aug_rectype *rt = aug_rectype_find(rec->type);
-    if (aug_mesh_is_record(rec->type)) {
-        aug_tool_check(t, aug_mesh_absorb(&s->m, rec, &e), &e);
-        return;
-    }
-    if (rt && rt->phase >= 2 && rt->phase <= 3) start(t, s);
-    if (rt && rt->perstep && rec->step > s->last_step) s->last_step = rec->step;
-    if (!memcmp(rec->type, "DOFM", 4)) {
-        int dim;
-        int64_t ndof, nfree;
-        int32_t *map;
-        aug_tool_check(t, aug_read_dofmap(rec, &dim, &ndof, &nfree, &map, &e), &e);
-        if (ndof != s->nn0 * s->m.dim || nfree != s->nfree0 ||
-            memcmp(map, s->map0, (size_t)ndof * sizeof *map)) {
-            aug_err_set(&e, AUG_EDATA, rec->index, rec->type,
-                        "DOF numbering does not match the mesh's constraints");
-            aug_tool_fail(t, &e);
+    for (int i = 0; i < o->ncon; i++) {
+        const constraint *q = &o->con[i];
+        if (q->step != k) continue;
+        if (q->nv && q->nv != m->dim)
+            aug_tool_die(t, "--constrain: %d values for a %d-D mesh", q->nv, m->dim);
+        if (q->set) {
+            aug_tool_check(t, aug_cut_constrain_set(m, q->set, q->nv ? q->v : NULL, bc, &e), &e);
+            continue;
         }
-        free(map);
-    } else if (!memcmp(rec->type, "MDLT", 4)) {
-        aug_mdelta d;
-        aug_tool_check(t, aug_read_mdelta(rec, s->m.dim, s->m.nv, &d, &e), &e);
-        if (aug_mesh_apply(&s->m, &d, &e)) {
-            e.record = rec->index;
-            aug_tool_fail(t, &e);
-        }
-        aug_mdelta_free(&d);
-    } else if (!memcmp(rec->type, "BDLT", 4)) {
-        aug_bdelta b;
-        aug_tool_check(t, aug_read_bdelta(rec, &b, &e), &e);
-        if (aug_mesh_apply_bc(&s->m, &b, &e)) {
-            e.record = rec->index;
-            aug_tool_fail(t, &e);
-        }
-        aug_bdelta_free(&b);
+        if (q->nbox != 2 * m->dim)
+            aug_tool_die(t, "--constrain: a box of %d numbers for a %d-D mesh", q->nbox, m->dim);
+        aug_tool_check(t, aug_cut_constrain_box(m, q->lo, q->hi, q->nv ? q->v : NULL, bc, &e), &e);
     }
 }
 
@@ -319,27 +226,28 @@ int main(int argc, char **argv)
     options o;
     aug_err e;
     aug_rec rec;
-    state s;
+    aug_replay rp;
     memset(&rec, 0, sizeof rec);
-    memset(&s, 0, sizeof s);
     aug_tool_init(&t, "cut", argc, argv);
     parse(&t, argc, argv, &o);
     aug_set_threads(1); /* GSL's small eigenproblems call OpenBLAS: no idle spinning threads */
-    aug_mesh_init(&s.m);
+    aug_replay_init(&rp);
     aug_tool_open_in(&t, o.file);
     aug_tool_open_out(&t);
     if (o.deflate) aug_writer_deflate(t.w, 65536);
     /* everything upstream passes byte for byte: the factor of K0 stays valid */
     while (aug_tool_read(&t, &rec) == 1) {
-        absorb(&t, &s, &rec);
+        aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
         aug_tool_pass(&t, &rec);
     }
-    start(&t, &s);
-    aug_mesh *m = &s.m;
+    aug_mesh *m = &rp.mesh;
+    if (!(m->have & AUG_HAVE_NODE) || !(m->have & AUG_HAVE_ELEM))
+        aug_tool_die(&t, "%s: the stream has no mesh (NODE and ELEM records)", t.inname);
+    aug_tool_check(&t, aug_replay_start(&rp, &e), &e);
     if (o.pathfile && (m->dim != 2 || m->etype != AUG_TRI3))
         aug_tool_die(&t, "%s: --path needs a 2-D triangle mesh", t.inname);
     aug_cutter c;
-    aug_tool_check(&t, aug_cutter_init(&c, m, s.nn0, s.map0, s.nfree0, &e), &e);
+    aug_tool_check(&t, aug_cutter_init(&c, m, rp.nn0, rp.map0, rp.nfree0, &e), &e);
     c.policy = o.policy;
     c.pull = o.pull;
     aug_plane_cut pc;
@@ -348,7 +256,7 @@ int main(int argc, char **argv)
     memset(&pp, 0, sizeof pp);
     int64_t per = o.per_step;
     if (o.plane) {
-        if (o.random_plane) random_plane(m, o.seed, o.n);
+        if (o.random_plane) aug_plane_random(m, (unsigned long)o.seed, o.n);
         if (m->dim == 2) o.n[2] = 0;
         aug_tool_check(&t, aug_plane_plan(&pc, m, &c.adj, o.n, o.n[3], o.have_adv ? o.adv : NULL, &e), &e);
         if (o.npoly) aug_tool_check(&t, aug_plane_restrict(&pc, m, o.poly, o.npoly, &e), &e);
@@ -358,7 +266,7 @@ int main(int argc, char **argv)
         aug_path_cut_init(&pp, &o.path, o.mode, o.snap_tol);
     }
     for (long k = 1; k <= o.steps; k++) {
-        int32_t step = s.last_step + (int32_t)k;
+        int32_t step = rp.last_step + (int32_t)k;
         aug_cut_step st;
         aug_cut_step_init(&st, step);
         double t0 = aug_now();
@@ -373,43 +281,11 @@ int main(int argc, char **argv)
             aug_tool_check(&t, aug_path_step(&pp, &c.ed, s_to, &st.seg, &st.nseg, &e), &e);
         }
         aug_tool_check(&t, aug_cutter_apply(&c, &st, &e), &e);
-        for (int i = 0; i < o.ncon; i++) {
-            constraint *q = &o.con[i];
-            if (q->step != k) continue;
-            if (q->nv && q->nv != m->dim)
-                aug_tool_die(&t, "--constrain: %d values for a %d-D mesh", q->nv, m->dim);
-            if (q->set)
-                aug_tool_check(&t, aug_cut_constrain_set(m, q->set, q->nv ? q->v : NULL, &st.bc, &e), &e);
-            else {
-                if (q->nbox != 2 * m->dim)
-                    aug_tool_die(&t, "--constrain: a box of %d numbers for a %d-D mesh", q->nbox, m->dim);
-                aug_tool_check(&t, aug_cut_constrain_box(m, q->lo, q->hi, q->nv ? q->v : NULL, &st.bc, &e), &e);
-            }
-        }
+        constrain(&t, &o, m, k, &st.bc);
         aug_tool_check(&t, aug_cutter_update(&c, &st, &e), &e);
         double ms = 1e3 * (aug_now() - t0);
-        aug_tool_check(&t, aug_write_mdelta(t.w, m->dim, m->nv, &st.d, &e), &e);
-        if (!aug_bdelta_empty(&st.bc)) aug_tool_check(&t, aug_write_bdelta(t.w, &st.bc, &e), &e);
-        aug_tool_check(&t, aug_write_update(t.w, &st.u, &e), &e);
-        write_path(&t, step, m->dim, st.seg, st.nseg);
-        if (o.stats) {
-            aug_kv q;
-            aug_kv_init(&q, "cut");
-            kv(&t, &q, "m", st.u.m);
-            kv(&t, &q, "k", st.u.k);
-            kv(&t, &q, "n", (double)aug_cut_order(m, s.nn0, s.nfree0));
-            kv(&t, &q, "nnew", (double)st.d.nnew);
-            kv(&t, &q, "nmod", (double)st.d.nmod);
-            kv(&t, &q, "nadd", (double)st.d.nadd);
-            kv(&t, &q, "nfix", (double)st.bc.nfix);
-            kv(&t, &q, "nload", (double)st.bc.nload);
-            kv(&t, &q, "pieces", (double)st.npieces);
-            kv(&t, &q, "flags", st.d.flags);
-            aug_tool_check(&t, aug_write_kv(t.w, "sTAt", step, &q, &e), &e);
-            aug_kv_init(&q, "cut");
-            kv(&t, &q, "time_ms", ms);
-            aug_tool_check(&t, aug_write_kv(t.w, "tIMe", step, &q, &e), &e);
-        }
+        int64_t n = aug_cut_order(m, rp.nn0, rp.nfree0);
+        aug_tool_check(&t, aug_cut_step_write(t.w, m, &st, o.stats, n, ms, &e), &e);
         aug_cut_step_free(&st);
     }
     aug_tool_close(&t);
@@ -419,8 +295,7 @@ int main(int argc, char **argv)
     aug_path_free(&o.path);
     for (int i = 0; i < o.ncon; i++) free((char *)o.con[i].set);
     free(o.con);
-    free(s.map0);
     aug_rec_free(&rec);
-    aug_mesh_free(m);
+    aug_replay_free(&rp);
     return 0;
 }

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "aug_fem.h"
+#include "aug_cut.h"
 #include "aug_solve.h"
 #include "cli/aug_tool.h"
 
@@ -137,170 +137,66 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     aug_tool_usage_done(t, synopsis);
 }
 
-typedef struct state {
-    aug_mesh mesh;
-    int dim;
-    int64_t ndof, nfree, nn0;
-    int32_t *map;
-    cholmod_sparse *K0;
-    double *f0;
-    int64_t nf0;
-    cholmod_factor *L0;
-    aug_solver *s;
-    int out_resolved;
-    int32_t step_flags, flags_step;
-    double full_ms; /* median full solve with the base factor (ms) */
-} state;
-
-static int cmp_i32(const void *a, const void *b)
+/* report the step's singular and unconverged methods; singular is fatal unless --on-singular report */
+static void report(aug_tool *t, const options *o, aug_solver *s, const aug_rec *rec, int32_t step)
 {
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* the output set: --output, else the oUTs record, else all; fixed before the
-   first mesh delta so that node copies inherit membership */
-static void resolve_output(aug_tool *t, state *st, const char *want)
-{
-    aug_mesh *m = &st->mesh;
-    st->out_resolved = 1;
-    st->nn0 = m->nn;
-    if (!want) return;
-    if (!strcmp(want, "all")) {
-        m->out_kind = AUG_OUT_ALL;
-        m->nout = 0;
-        return;
+    int nsing = 0;
+    char names[128] = "";
+    for (int i = 0; i < o->so.nmeth; i++) {
+        int mth = o->so.order[i];
+        if (aug_solver_singular(s, mth)) {
+            nsing++;
+            strncat(names, names[0] ? "," : "", sizeof names - strlen(names) - 1);
+            strncat(names, aug_method_names[mth], sizeof names - strlen(names) - 1);
+        } else if (!aug_solver_converged(s, mth)) {
+            fprintf(stderr, "%s: step %d: %s did not converge (relres %.3g)\n", t->prog, (int)step,
+                    aug_method_names[mth], aug_kv_get(aug_solver_stat(s, mth), "relres", NAN));
+        }
     }
-    int32_t *nodes = NULL;
-    int64_t n = 0;
-    if (!strcmp(want, "surface")) {
-        unsigned char *mark = malloc((size_t)m->nn + 1);
-        if (!mark || aug_mesh_boundary_nodes(m, mark) < 0) aug_tool_die(t, "out of memory");
-        nodes = malloc((size_t)m->nn * sizeof *nodes + 4);
-        for (int64_t i = 0; i < m->nn; i++)
-            if (mark[i]) nodes[n++] = (int32_t)i;
-        free(mark);
-        m->out_kind = AUG_OUT_SURFACE;
-    } else {
-        const aug_set *s = aug_mesh_set(m, want);
-        if (!s) aug_tool_die(t, "--output %s: no such node set in the stream", want);
-        nodes = malloc((size_t)s->n * sizeof *nodes + 4);
-        memcpy(nodes, s->nodes, (size_t)s->n * sizeof *nodes);
-        n = s->n;
-        m->out_kind = AUG_OUT_SET;
-        snprintf(m->out_name, sizeof m->out_name, "%s", want);
-    }
-    free(m->out_nodes);
-    m->out_nodes = nodes;
-    m->nout = n;
+    if (nsing && !o->on_singular_report)
+        aug_tool_die(t, "%s: record %ld (UPDT): step %d: K_t is singular or not positive definite (%s)",
+                     t->inname, rec->index, (int)step, names);
+    if (nsing)
+        fprintf(stderr, "%s: step %d: K_t is singular or not positive definite (%s)\n", t->prog,
+                (int)step, names);
 }
 
-/* matrix index of (node, c) in the cut-matrix numbering (formats 7.2), -1 if fixed */
-static int64_t dof_index(const state *st, int64_t node, int c)
-{
-    if (node < st->nn0) return st->map[node * st->dim + c];
-    return st->nfree + (node - st->nn0) * st->dim + c;
-}
-
-static double fixed_value(const aug_mesh *m, int64_t dof)
-{
-    for (int64_t f = 0; f < m->nfix; f++)
-        if (m->fix_dof[f] == dof) return m->fix_val[f];
-    return 0;
-}
-
-static void step(aug_tool *t, state *st, const options *o, const aug_rec *rec)
+/* one UPDT: every method solves K_t; the first one's field on the output set,
+   then sTAt and tIMe per method */
+static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, double *full_ms,
+                 const aug_rec *rec)
 {
     aug_err e;
     aug_update u;
     if (aug_read_update(rec, &u, &e)) aug_tool_fail(t, &e);
-    if (!st->s) {
-        if (!st->K0 || !st->f0 || !st->L0 || !st->map)
-            aug_tool_die(t, "%s: record %ld (UPDT): DOFM, KMAT (which 0), FVEC and FACT must come first",
-                         t->inname, rec->index);
-        if (st->nf0 != (int64_t)st->K0->nrow || st->nfree != (int64_t)st->K0->nrow)
-            aug_tool_die(t, "%s: record %ld (UPDT): FVEC, DOFM and KMAT orders differ", t->inname, rec->index);
-        cholmod_common *cm = malloc(sizeof *cm);
-        aug_cholmod_start(cm);
-        st->s = aug_solver_new(st->K0, st->f0, st->L0, &o->so, cm, &e);
-        st->L0 = NULL;
-        if (!st->s) aug_tool_fail(t, &e);
-        st->full_ms = aug_solver_full_solve_ms(st->s, 5);
+    if (!sys->solver) {
+        aug_tool_check(t, aug_sys0_solver(sys, rp->started ? rp->nfree0 : -1, &o->so, rec, &e), &e);
+        *full_ms = aug_solver_full_solve_ms(sys->solver, 5);
     }
-    const aug_mesh *m = &st->mesh;
-    /* requested DOFs of the output set */
-    int32_t *out = NULL, *nodes = NULL;
-    int64_t nout = 0, nnodes = 0;
-    int all = m->out_kind == AUG_OUT_ALL || !(m->have & AUG_HAVE_NODE);
-    if (!all) {
-        nnodes = m->nout;
-        nodes = m->out_nodes;
-        out = malloc((size_t)(nnodes * st->dim + 1) * sizeof *out);
-        for (int64_t i = 0; i < nnodes; i++)
-            for (int c = 0; c < st->dim; c++) {
-                int64_t id = dof_index(st, nodes[i], c);
-                if (id >= 0) out[nout++] = (int32_t)id;
-            }
-        qsort(out, (size_t)nout, sizeof *out, cmp_i32);
-    }
-    int flags = st->flags_step == u.step ? st->step_flags : 0;
-    if (aug_solver_step(st->s, &u, out, nout, flags, &e)) {
+    aug_solver *s = sys->solver;
+    const int32_t *out;
+    int64_t nout;
+    aug_tool_check(t, aug_replay_out_dofs(rp, &out, &nout, &e), &e);
+    int flags = rp->nmdlt && rp->mdlt_step == u.step ? rp->mdlt_flags : 0;
+    if (aug_solver_step(s, &u, aug_replay_all(rp) ? NULL : out, nout, flags, &e)) {
         e.record = rec->index;
         snprintf(e.type, sizeof e.type, "UPDT");
         aug_tool_fail(t, &e);
     }
     aug_tool_pass(t, rec);
-    int first = o->so.order[0], nsing = 0;
-    char names[128] = "";
-    for (int i = 0; i < o->so.nmeth; i++) {
-        int mth = o->so.order[i];
-        if (aug_solver_singular(st->s, mth)) {
-            nsing++;
-            strncat(names, names[0] ? "," : "", sizeof names - strlen(names) - 1);
-            strncat(names, aug_method_names[mth], sizeof names - strlen(names) - 1);
-        } else if (!aug_solver_converged(st->s, mth)) {
-            fprintf(stderr, "%s: step %d: %s did not converge (relres %.3g)\n", t->prog, (int)u.step,
-                    aug_method_names[mth], aug_kv_get(aug_solver_stat(st->s, mth), "relres", NAN));
-        }
-    }
-    if (nsing && !o->on_singular_report)
-        aug_tool_die(t, "%s: record %ld (UPDT): step %d: K_t is singular or not positive definite (%s)",
-                     t->inname, rec->index, (int)u.step, names);
-    if (nsing)
-        fprintf(stderr, "%s: step %d: K_t is singular or not positive definite (%s)\n", t->prog, (int)u.step, names);
-    /* fELD of the first method, on the output set */
-    if (!aug_solver_singular(st->s, first) && (m->have & AUG_HAVE_NODE)) {
-        const double *x = aug_solver_field(st->s, first);
-        int64_t cnt = all ? m->nn : nnodes;
-        aug_buf b;
-        aug_buf_init(&b);
-        aug_buf_i32(&b, 0);
-        aug_buf_i32(&b, st->dim);
-        aug_buf_i64(&b, cnt);
-        aug_buf_i32(&b, all ? 0 : 1);
-        aug_buf_i32(&b, 0);
-        if (!all) aug_buf_i32v(&b, (const int32_t *)nodes, (size_t)cnt);
-        for (int64_t i = 0; i < cnt; i++) {
-            int64_t node = all ? i : nodes[i];
-            for (int c = 0; c < st->dim; c++) {
-                int64_t id = dof_index(st, node, c);
-                aug_buf_f64(&b, id >= 0 ? x[id] : fixed_value(m, node * st->dim + c));
-            }
-        }
-        if (b.failed) aug_tool_die(t, "out of memory");
-        aug_tool_write(t, "fELD", u.step, b.p, b.len);
-        aug_buf_free(&b);
-    }
+    report(t, o, s, rec, u.step);
+    int first = o->so.order[0];
+    if (!aug_solver_singular(s, first) && (rp->mesh.have & AUG_HAVE_NODE))
+        aug_tool_check(t, aug_replay_write_field(t->w, rp, u.step, aug_solver_field(s, first), &e), &e);
     /* the reference a step is compared with, timed next to it (bench) */
-    if (o->time_full) st->full_ms = aug_solver_full_solve_ms(st->s, 1);
+    if (o->time_full) *full_ms = aug_solver_full_solve_ms(s, 1);
     for (int i = 0; i < o->so.nmeth; i++) {
         int mth = o->so.order[i];
-        aug_tool_check(t, aug_write_kv(t->w, "sTAt", u.step, aug_solver_stat(st->s, mth), &e), &e);
-        aug_kv tm = *aug_solver_time(st->s, mth);
-        aug_kv_set(&tm, "full_solve_ms", st->full_ms);
+        aug_tool_check(t, aug_write_kv(t->w, "sTAt", u.step, aug_solver_stat(s, mth), &e), &e);
+        aug_kv tm = *aug_solver_time(s, mth);
+        aug_kv_set(&tm, "full_solve_ms", *full_ms);
         aug_tool_check(t, aug_write_kv(t->w, "tIMe", u.step, &tm, &e), &e);
     }
-    free(out);
     aug_update_free(&u);
 }
 
@@ -308,79 +204,29 @@ int main(int argc, char **argv)
 {
     aug_tool t;
     options o;
+    aug_err e;
+    aug_replay rp;
+    aug_sys0 sys;
+    aug_rec rec;
+    double full_ms = 0;
+    memset(&rec, 0, sizeof rec);
     aug_tool_init(&t, "solve-aug", argc, argv);
     parse(&t, argc, argv, &o);
     aug_set_threads(o.so.nthreads);
     aug_tool_open_in(&t, o.file);
     aug_tool_open_out(&t);
-    state st;
-    memset(&st, 0, sizeof st);
-    aug_mesh_init(&st.mesh);
-    cholmod_common cm;
-    aug_cholmod_start(&cm);
-    aug_rec rec;
-    memset(&rec, 0, sizeof rec);
-    aug_err e;
+    aug_replay_init(&rp);
+    rp.output = o.output;
+    aug_tool_check(&t, aug_sys0_init(&sys, &e), &e);
     while (aug_tool_read(&t, &rec)) {
-        const char *ty = rec.type;
-        if (aug_mesh_is_record(ty)) {
-            aug_tool_check(&t, aug_mesh_absorb(&st.mesh, &rec, &e), &e);
-        } else if (!strcmp(ty, "DOFM")) {
-            aug_tool_check(&t, aug_read_dofmap(&rec, &st.dim, &st.ndof, &st.nfree, &st.map, &e), &e);
-        } else if (!strcmp(ty, "KMAT")) {
-            int which = -1;
-            cholmod_sparse *A = aug_read_sparse(&rec, &which, &cm, &e);
-            if (!A) aug_tool_fail(&t, &e);
-            if (which == 0 && !st.K0) st.K0 = A;
-            else cholmod_free_sparse(&A, &cm);
-        } else if (!strcmp(ty, "FVEC")) {
-            aug_cur c;
-            aug_cur_init(&c, &rec);
-            int32_t kind = aug_cur_i32(&c);
-            aug_cur_i32(&c);
-            int64_t n = aug_cur_i64(&c);
-            if (!c.ok || n < 0 || !aug_cur_has(&c, (uint64_t)n, 8) || c.len - c.pos != (uint64_t)n * 8) {
-                aug_err_set(&e, AUG_EPAYLOAD, rec.index, ty, "payload size does not match n");
-                aug_tool_fail(&t, &e);
-            }
-            if (kind == 0 && !st.f0) {
-                st.f0 = malloc((size_t)(n + 1) * sizeof *st.f0);
-                aug_cur_f64v(&c, st.f0, (uint64_t)n);
-                st.nf0 = n;
-            }
-        } else if (!strcmp(ty, "FACT")) {
-            st.L0 = aug_read_factor(&rec, &cm, &e);
-            if (!st.L0) aug_tool_fail(&t, &e);
-        } else if (!strcmp(ty, "MDLT") || !strcmp(ty, "UPDT")) {
-            if (!st.out_resolved) {
-                if (st.mesh.have & AUG_HAVE_NODE) aug_tool_check(&t, aug_mesh_validate(&st.mesh, &e), &e);
-                resolve_output(&t, &st, o.output);
-            }
-            if (!strcmp(ty, "MDLT")) {
-                if (!(st.mesh.have & AUG_HAVE_NODE)) aug_tool_die(&t, "%s: record %ld (MDLT): no mesh records before it", t.inname, rec.index);
-                aug_mdelta d;
-                aug_tool_check(&t, aug_read_mdelta(&rec, st.mesh.dim, st.mesh.nv, &d, &e), &e);
-                if (aug_mesh_apply(&st.mesh, &d, &e)) {
-                    e.record = rec.index;
-                    aug_tool_fail(&t, &e);
-                }
-                st.step_flags = d.flags, st.flags_step = d.step;
-                aug_mdelta_free(&d);
-            } else {
-                step(&t, &st, &o, &rec);
-                continue; /* passed through before the step's own records */
-            }
-        }
-        aug_tool_pass(&t, &rec);
+        aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
+        aug_tool_check(&t, aug_sys0_add(&sys, &rec, &e), &e);
+        if (!memcmp(rec.type, "UPDT", 4)) step(&t, &o, &rp, &sys, &full_ms, &rec);
+        else aug_tool_pass(&t, &rec);
     }
     aug_tool_close(&t);
     aug_rec_free(&rec);
-    aug_solver_free(st.s);
-    if (st.L0) cholmod_free_factor(&st.L0, &cm);
-    if (st.K0) cholmod_free_sparse(&st.K0, &cm);
-    free(st.f0);
-    free(st.map);
-    aug_mesh_free(&st.mesh);
-    cholmod_finish(&cm);
+    aug_sys0_free(&sys);
+    aug_replay_free(&rp);
     return 0;
 }

@@ -25,28 +25,49 @@ int aug_mesh_fixed(const aug_mesh *m, int32_t dof, double *v);
 /* Nodal force on dof (0 when none). */
 double aug_mesh_load(const aug_mesh *m, int32_t dof);
 
-/* ---- BDLT: constraints and loads changed by one step (formats/stream.md 7.7) ---- */
-typedef struct aug_bdelta {
-    int32_t step;
-    int64_t nfix;
-    int32_t *fix_dof;    /* strictly increasing after aug_bdelta_finish */
-    double *fix_val;
-    int64_t nload;
-    int32_t *load_dof;   /* strictly increasing; the new total force on that dof */
-    double *load_val;
-    int64_t capfix, capload;
-} aug_bdelta;
+/* ---- The scene of a stream, replayed (lib/cut/replay.c) ----
+   Fed every record: absorbs the mesh records; at the first matrix or step
+   record the original mesh is complete: it is validated, its numbering fixed
+   (map0 = aug_dofmap, nfree0 free DOFs, nn0 nodes) and the output set
+   resolved (--output overrides oUTs); a DOFM must equal that numbering (a
+   stream without mesh records takes its numbering from DOFM); every MDLT and
+   BDLT of a step <= step_limit is applied to the mesh (later ones are only
+   checked). Index of (node, c) in the cut-matrix numbering (formats 7.2):
+   aug_replay_index. */
+typedef struct aug_replay {
+    aug_mesh mesh;             /* now: the records, then every applied delta */
+    int started, have_dofm, dim;
+    int64_t nn0, nfree0;
+    int32_t *map0;             /* nn0*dim: index in K0, or -1 (constrained) */
+    int32_t last_step;         /* highest step of a per-step record so far (0: none) */
+    int32_t step_limit;        /* default INT32_MAX */
+    const char *output;        /* all, surface, a set name, or NULL (the stream's oUTs) */
+    long nmdlt, applied;       /* MDLT records read, applied */
+    int32_t mdlt_step, mdlt_flags; /* the latest MDLT's step, flags (AUG_STEP_*) and counts */
+    int64_t mdlt_nnew, mdlt_nmod, mdlt_nadd;
+    int32_t *out_dof;          /* aug_replay_out_dofs' array */
+} aug_replay;
+void aug_replay_init(aug_replay *r);
+void aug_replay_free(aug_replay *r);
+int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e);
+/* Fix the original mesh now (called by add at the first matrix/step record). */
+int aug_replay_start(aug_replay *r, aug_err *e);
+int64_t aug_replay_index(const aug_replay *r, int64_t node, int c);
+/* 1 when the field covers every node (output set all, or no mesh). */
+int aug_replay_all(const aug_replay *r);
+/* Increasing cut-matrix indices of the output set's free DOFs (none when all);
+   the array belongs to r and lives until the next call. */
+int aug_replay_out_dofs(aug_replay *r, const int32_t **dofs, int64_t *n, aug_err *e);
+/* fELD (kind 0) of the solution x of step `step` on the output set. */
+int aug_replay_write_field(aug_writer *w, const aug_replay *r, int32_t step, const double *x,
+                           aug_err *e);
 
-void aug_bdelta_init(aug_bdelta *b);
-void aug_bdelta_free(aug_bdelta *b);
-int aug_bdelta_empty(const aug_bdelta *b);
+/* ---- BDLT: building one (aug_bdelta in aug_update.h) ---- */
 /* Append a constraint / a load (duplicates: the last one wins at finish). 0 or -1 (memory). */
 int aug_bdelta_fix(aug_bdelta *b, int32_t dof, double v);
 int aug_bdelta_load(aug_bdelta *b, int32_t dof, double v);
 /* Sort and de-duplicate both lists: 0 or -1 (memory). */
 int aug_bdelta_finish(aug_bdelta *b);
-int aug_write_bdelta(aug_writer *w, const aug_bdelta *b, aug_err *e);
-int aug_read_bdelta(const aug_rec *rec, aug_bdelta *b, aug_err *e);
 /* Constrain / set loads in m (sorted insertion). */
 int aug_mesh_apply_bc(aug_mesh *m, const aug_bdelta *b, aug_err *e);
 
@@ -190,6 +211,9 @@ typedef struct aug_plane_cut {
 } aug_plane_cut;
 /* Classify elements, collect and order the cut nodes. adv NULL: away from the
    fixed set (see man/cut.1). Fails (AUG_EDATA) when the plane misses the mesh. */
+/* A random plane n.x = n[3] (GSL mt19937 with seed): normal uniform on the
+   sphere (circle in 2-D), through a point in the middle half of the bounding box. */
+void aug_plane_random(const aug_mesh *m, unsigned long seed, double n[4]);
 int aug_plane_plan(aug_plane_cut *pc, const aug_mesh *m, const aug_adj *adj,
                    const double n[3], double d, const double *adv, aug_err *e);
 /* Keep only the planned cut nodes whose projection onto the plane lies in the
@@ -327,5 +351,10 @@ int aug_cutter_apply(aug_cutter *c, aug_cut_step *s, aug_err *e);
 /* Pull forces, detached pieces (policy), the UPDT; applies s->bc to the mesh.
    Under AUG_DETACH_ERROR a detached piece is AUG_ESINGULAR naming it. */
 int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e);
+/* The step's records: MDLT, BDLT (when not empty), UPDT, pATH; with stats also
+   sTAt (tag cut: m, k, n the order of K_t, nnew, nmod, nadd, nfix, nload,
+   pieces, flags) and tIMe (time_ms = ms). */
+int aug_cut_step_write(aug_writer *w, const aug_mesh *m, const aug_cut_step *s, int stats,
+                       int64_t n, double ms, aug_err *e);
 
 #endif

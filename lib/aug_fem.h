@@ -32,7 +32,9 @@ void aug_set_threads(int nthreads);
    blocks >= 2 MiB allocated on transparent huge pages). */
 void aug_cholmod_start(cholmod_common *cm);
 
-/* Records of this layer. */
+/* Records of this layer: matrix family (lib/fem/matrix_rec.c), factor
+   (lib/fem/factor_rec.c), field (lib/fem/field_rec.c). Every read checks the
+   payload (sizes, orders, finite values) before it fills anything. */
 int aug_write_dofmap(aug_writer *w, const aug_mesh *m, const int32_t *map, int64_t nfree,
                      aug_err *e);
 int aug_read_dofmap(const aug_rec *rec, int *dim, int64_t *ndof, int64_t *nfree,
@@ -50,6 +52,9 @@ int aug_write_factor(aug_writer *w, const cholmod_factor *L, cholmod_common *cm,
 cholmod_factor *aug_read_factor(const aug_rec *rec, cholmod_common *cm, aug_err *e);
 /* Read a vector record of the FVEC layout (kind, n, v[n]); *v is malloc'd. */
 int aug_read_vector(const aug_rec *rec, int32_t *kind, int64_t *n, double **v, aug_err *e);
+/* Header fields of a KMAT / FACT record that aug_check_payload accepted. */
+int aug_kmat_info(const aug_rec *rec, int32_t *which, int32_t *stype, int64_t *n, int64_t *nnz);
+int aug_fact_info(const aug_rec *rec, int64_t *n, int64_t *nnz, int32_t *ordering);
 
 /* Connected components of the element graph (nodes sharing an element):
    comp[node] = 0, 1, ... in the order of each component's smallest node, -1
@@ -94,5 +99,30 @@ int aug_read_field(const aug_rec *rec, int32_t *kind, int *dim, int64_t *count,
 /* Node -> element incidence (CSR, elements increasing): elements of node i are
    ind[ptr[i] .. ptr[i+1]-1]. Both malloc'd; -1 on allocation failure. */
 int aug_node_elements(const aug_mesh *m, int64_t **ptr, int32_t **ind);
+
+/* factor's computation on the intact scene (lib/fem/factor_scene.c): K (M,
+   lumped M), f, the factor L of K with CHOLMOD, a = K^-1 f with its relres,
+   cond(K) by ARPACK unless no_cond; then its records DOFM KMAT FVEC FACT cOND
+   fELD (step 0) sTAt tIMe. */
+typedef struct aug_factor_opts {
+    int ordering, simplicial, threads, mass, lumped, no_factor, no_cond;
+    double cond_tol;
+} aug_factor_opts;
+typedef struct aug_factored {
+    int32_t *map;
+    int64_t nfree;
+    cholmod_sparse *K, *M, *ML;
+    double *f, *a;
+    cholmod_factor *L;
+    double relres;
+    aug_cond cond;
+    double lnz, fl;            /* CHOLMOD's analysis: nnz(L) and flop count */
+    double t_asm, t_an, t_fac, t_sol, t_cond;  /* seconds */
+} aug_factored;
+int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_opts *o,
+                         cholmod_common *cm, aug_err *e);
+int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
+                       const aug_factor_opts *o, cholmod_common *cm, aug_err *e);
+void aug_factored_free(aug_factored *r, cholmod_common *cm);
 
 #endif

@@ -212,6 +212,10 @@ int aug_refine_bc_only(aug_refiner *r, int32_t step, const struct aug_bdelta *bc
                        struct aug_bdelta *outbc, aug_update *u, aug_err *e);
 /* qUAl and tIMe named values of q. */
 void aug_refine_q_kv(const aug_refine_q *q, int dim, aug_kv *qual, aug_kv *time);
+/* The n records of cut step `step` (in stream order) refined and written to w
+   (lib/refine/refine_records.c). */
+int aug_refine_records(aug_refiner *r, const aug_rec *recs, int n, int32_t step, aug_writer *w,
+                       aug_err *e);
 
 /* Internal steps of aug_refine_step (r->cut already holds the cut's step; nnc,
    nec: its counts before; oldc: the old connectivity of d->elem). 2-D: the

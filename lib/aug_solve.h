@@ -372,6 +372,23 @@ typedef struct aug_solver_opts {
 } aug_solver_opts;
 void aug_solver_opts_default(aug_solver_opts *o);
 
+/* The original system read from a stream (lib/solve/sys0_rec.c): K0, f0 and
+   the factor L0 of KMAT/FVEC/FACT, in one cholmod_common that the struct owns,
+   and the solver made from them at the first update. */
+typedef struct aug_sys0 {
+    cholmod_common *cm;
+    cholmod_sparse *K0;
+    double *f0;
+    int64_t nf0;
+    cholmod_factor *L0;
+    struct aug_solver *solver;
+} aug_sys0;
+int aug_sys0_init(aug_sys0 *s, aug_err *e);
+void aug_sys0_free(aug_sys0 *s);
+int aug_sys0_add(aug_sys0 *s, const aug_rec *rec, aug_err *e);
+int aug_sys0_solver(aug_sys0 *s, int64_t nfree, const aug_solver_opts *o, const aug_rec *rec,
+                    aug_err *e);
+
 typedef struct aug_solver aug_solver;
 /* K0 upper (stype 1), f0, the FACT factor of K0 (taken). */
 aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,

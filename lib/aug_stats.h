@@ -26,11 +26,6 @@ void aug_mesh_qstats(const aug_mesh *m, aug_qstats *s);
 /* Histogram bin of value v for edges[0..AUG_QHIST] (v below edges[0] goes to bin 0). */
 int aug_qhist_bin(const double *edges, double v);
 
-/* Layout and structure checks of the payloads of DOFM KMAT FVEC FACT pATH
-   fELD (sizes against counts, DOFM numbering, CSC structure of KMAT and FACT,
-   FACT's permutation); other types pass. */
-int aug_check_payload(const aug_rec *rec, aug_err *e);
-
 /* --dump: one header line per record "#N TYPE step=S flags=F len=L" (L the
    inflated payload length) and its fields decoded per formats/stream.md, floats
    as %.17g. The dump keeps the mesh it has read to decode later records. */
@@ -40,13 +35,8 @@ typedef struct aug_dump {
 } aug_dump;
 void aug_dump_init(aug_dump *d, int no_times);
 void aug_dump_free(aug_dump *d);
-/* The HEAD record (consumed by aug_reader_open) as record #0. */
-int aug_dump_head(FILE *out, const aug_reader *r, aug_err *e);
 /* One record (TAIL included); payloads that do not match their layout fail. */
 int aug_dump_record(FILE *out, aug_dump *d, const aug_rec *rec, aug_err *e);
-/* Name of a CHOLMOD ordering code (FACT ordering field): "amd", "metis", ...
-   (factorize.c; declared in aug_fem.h as well) */
-const char *aug_ordering_name(int cholmod_ordering);
 
 /* Per-step table: one row per (step, method) from sTAt and tIMe records with
    the same step and tag; rows in stream order. */

@@ -72,12 +72,35 @@ int aug_type_critical(const char *type);     /* first letter upper case */
 int aug_type_safe_to_copy(const char *type); /* fourth letter lower case */
 
 /* Known record kinds: see aug_record_table in stream.c and formats/stream.md. */
+/* Record codecs: one per record type, in the file of its record family
+   (formats/stream.md 3.3, column "codec"), bound to the type in the record
+   table. check validates a payload on its own, behind the CRC: sizes against
+   counts, index ranges and orders, finite values. dump prints it for
+   stats --dump, decoding (and so checking) it first: a bad record prints
+   nothing; m holds the mesh records seen so far (the mesh codecs absorb into
+   it, the step codecs read its dimension and element size). The typed read
+   and write functions of each codec are declared in its layer's header. */
+struct aug_mesh;
+typedef struct aug_codec {
+    const char *file;          /* lib/LAYER/FAMILY.c */
+    int (*check)(const struct aug_rec *rec, aug_err *e);
+    int (*dump)(FILE *out, struct aug_mesh *m, const struct aug_rec *rec, aug_err *e);
+} aug_codec;
+extern const aug_codec aug_codec_head, aug_codec_prov, aug_codec_tail, aug_codec_mode;
+extern const aug_codec aug_codec_node, aug_codec_matl, aug_codec_elem, aug_codec_nset,
+    aug_codec_fixd, aug_codec_load, aug_codec_outs;
+extern const aug_codec aug_codec_dofm, aug_codec_kmat, aug_codec_fvec, aug_codec_fact,
+    aug_codec_feld;
+extern const aug_codec aug_codec_mdlt, aug_codec_updt, aug_codec_bdlt, aug_codec_path;
+extern const aug_codec aug_codec_kv;   /* cOND sTAt tIMe qUAl */
+
 typedef struct aug_rectype {
     const char *type;
     uint64_t minlen, maxlen;   /* inflated payload length bounds */
     int phase;                 /* 0 head, 1 mesh, 2 matrix, 3 steps, 4 tail; -1 anywhere */
     int once;                  /* at most once per stream */
     int perstep;               /* carries a step number >= 0 */
+    const aug_codec *codec;
 } aug_rectype;
 const aug_rectype *aug_rectype_find(const char *type);
 /* The i-th row of the record table, NULL past its end. */
@@ -120,8 +143,20 @@ int aug_write_part(aug_writer *w, const void *p, size_t n, size_t size, aug_err 
 int aug_write_end(aug_writer *w, aug_err *e);
 /* Write a record read from another stream byte for byte. */
 int aug_write_rec(aug_writer *w, const aug_rec *rec, aug_err *e);
-/* Write the provenance record: tool name, version, command line. */
+/* pROv (lib/stream/frame_rec.c): "augcut VERSION\nargv[0] argv[1] ..." */
 int aug_write_prov(aug_writer *w, int argc, char **argv, aug_err *e);
+/* its text as a NUL-terminated copy (free it) */
+int aug_read_prov(const aug_rec *rec, char **text, aug_err *e);
+/* HEAD as stats --dump prints it (record #0, consumed by aug_reader_open) */
+int aug_dump_head(FILE *out, const aug_reader *r, aug_err *e);
+/* Payload checks and stats --dump text through the record table: the codec of
+   rec's type; records without a codec (unknown ancillary ones) pass check and
+   dump as hex. */
+int aug_check_payload(const aug_rec *rec, aug_err *e);
+int aug_dump_rec(FILE *out, struct aug_mesh *m, const aug_rec *rec, aug_err *e);
+/* Deep copy of a record (payload and wire bytes in buffers of its own, freed by
+   aug_rec_free), for tools that hold a step's records before writing them. */
+int aug_rec_copy(aug_rec *dst, const aug_rec *src, aug_err *e);
 /* Write TAIL and flush. Without this call the stream is incomplete, on purpose. */
 int aug_writer_close(aug_writer *w, aug_err *e);
 void aug_writer_free(aug_writer *w);
@@ -163,6 +198,21 @@ void aug_cur_name(aug_cur *c, char dst[64]);
 /* Remaining bytes >= n*size, without overflow. */
 int aug_cur_has(const aug_cur *c, uint64_t n, uint64_t size);
 
+/* stats --dump text helpers (lib/stream/dumptext.c), used by every codec:
+   "#N TYPE step=S flags=F len=L"; escaped names; %.17g floats; arrays
+   "  label[n]" with 10 integers or 4 floats a line; row tables "label[r x c]". */
+void aug_txt_header(FILE *o, const aug_rec *rec);
+void aug_txt_esc(FILE *o, const char *s, size_t n, int quote);
+void aug_txt_name(FILE *o, const char *label, const char *s, size_t cap);
+void aug_txt_f(FILE *o, double v);
+void aug_txt_i32s(FILE *o, const char *label, aug_cur *c, uint64_t n);
+void aug_txt_i64s(FILE *o, const char *label, aug_cur *c, uint64_t n);
+void aug_txt_f64s(FILE *o, const char *label, aug_cur *c, uint64_t n);
+void aug_txt_rows_i32(FILE *o, const char *label, aug_cur *c, uint64_t rows, int cols);
+void aug_txt_rows_f64(FILE *o, const char *label, aug_cur *c, uint64_t rows, int cols);
+void aug_txt_hex(FILE *o, const aug_rec *rec);
+aug_cur aug_cur_mem(const void *p, uint64_t bytes);
+
 /* Named-value records (cOND sTAt tIMe qUAl): a tag (method or tool name) and
    up to AUG_KV_MAX (key, float64) pairs, in insertion order. */
 #define AUG_KV_MAX 64
@@ -179,6 +229,9 @@ int aug_kv_set(aug_kv *kv, const char *key, double v);
 double aug_kv_get(const aug_kv *kv, const char *key, double def);
 int aug_write_kv(aug_writer *w, const char *type, int32_t step, const aug_kv *kv, aug_err *e);
 int aug_read_kv(const aug_rec *rec, aug_kv *kv, aug_err *e);
+
+/* Monotonic wall clock in seconds (lib/stream/clock.c). */
+double aug_now(void);
 
 /* Failure injection for tests: the n-th allocation through aug_malloc fails
    (n < 0: never). */

@@ -43,15 +43,47 @@ typedef struct aug_update {
     double *df;
 } aug_update;
 
+/* Constraints and loads changed by one step (BDLT, formats/stream.md 7.7). */
+typedef struct aug_bdelta {
+    int32_t step;
+    int64_t nfix;
+    int32_t *fix_dof;    /* strictly increasing after aug_bdelta_finish */
+    double *fix_val;
+    int64_t nload;
+    int32_t *load_dof;   /* strictly increasing; the new total force on that dof */
+    double *load_val;
+    int64_t capfix, capload;
+} aug_bdelta;
+
+void aug_bdelta_init(aug_bdelta *b);
+void aug_bdelta_free(aug_bdelta *b);
+int aug_bdelta_empty(const aug_bdelta *b);
+/* Cut geometry of one step (pATH, formats/stream.md 7.6): nseg segments, each
+   two end points of dim coordinates. */
+typedef struct aug_pathrec {
+    int32_t step;
+    int dim;
+    int64_t nseg;
+    double *seg;         /* nseg*2*dim */
+} aug_pathrec;
+
 void aug_mdelta_init(aug_mdelta *d);
 void aug_mdelta_free(aug_mdelta *d);
 void aug_update_init(aug_update *u);
 void aug_update_free(aug_update *u);
 
+/* Step-family codecs (lib/mesh/step_rec.c): MDLT needs the mesh's dimension
+   and element size; every read checks the payload (counts, orders, finite
+   values) and fills the struct, which is freed by its _free also on error. */
 int aug_write_mdelta(aug_writer *w, int dim, int nv, const aug_mdelta *d, aug_err *e);
 int aug_read_mdelta(const aug_rec *rec, int dim, int nv, aug_mdelta *d, aug_err *e);
 int aug_write_update(aug_writer *w, const aug_update *u, aug_err *e);
 int aug_read_update(const aug_rec *rec, aug_update *u, aug_err *e);
+int aug_write_bdelta(aug_writer *w, const aug_bdelta *b, aug_err *e);
+int aug_read_bdelta(const aug_rec *rec, aug_bdelta *b, aug_err *e);
+int aug_write_path(aug_writer *w, const aug_pathrec *p, aug_err *e);
+int aug_read_path(const aug_rec *rec, aug_pathrec *p, aug_err *e);
+void aug_pathrec_free(aug_pathrec *p);
 
 /* Apply a mesh delta to m (nodes appended, elements re-wired and appended, new
    nodes inherit their parent's constraints and set memberships). */

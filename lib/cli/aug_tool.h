@@ -28,7 +28,6 @@ void aug_tool_open_out(aug_tool *t);
 /* Next record: 1, or 0 at the end of a whole stream; dies on any error. */
 int aug_tool_read(aug_tool *t, aug_rec *rec);
 void aug_tool_pass(aug_tool *t, const aug_rec *rec);   /* write rec byte for byte */
-void aug_tool_write(aug_tool *t, const char *type, int32_t step, const void *p, uint64_t n);
 void aug_tool_check(aug_tool *t, int rc, const aug_err *e); /* dies if rc != 0 */
 /* Write TAIL and close; only a stream closed this way is whole. */
 void aug_tool_close(aug_tool *t);
@@ -40,8 +39,6 @@ void aug_tool_die(aug_tool *t, const char *fmt, ...) __attribute__((noreturn, fo
 int aug_parse_doubles(const char *s, double *v, int n);
 int aug_parse_long(const char *s, long *v);
 int aug_parse_double(const char *s, double *v);
-/* Wall clock in seconds (monotonic). */
-double aug_now(void);
 
 /* Threads of CHOLMOD/OpenBLAS (nthreads <= 0: 1). Call right after option
    parsing, before any input is read: when OMP_THREAD_LIMIT is not set, the

@@ -110,12 +110,6 @@ void aug_tool_pass(aug_tool *t, const aug_rec *rec)
     aug_tool_check(t, aug_write_rec(t->w, rec, &e), &e);
 }
 
-void aug_tool_write(aug_tool *t, const char *type, int32_t step, const void *p, uint64_t n)
-{
-    aug_err e;
-    aug_tool_check(t, aug_write(t->w, type, step, p, n, &e), &e);
-}
-
 void aug_tool_close(aug_tool *t)
 {
     aug_err e;
@@ -161,11 +155,4 @@ int aug_parse_long(const char *s, long *v)
 int aug_parse_double(const char *s, double *v)
 {
     return aug_parse_doubles(s, v, 1);
-}
-
-double aug_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }

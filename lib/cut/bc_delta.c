@@ -1,5 +1,5 @@
 /* Boundary conditions that change during the cut: lookups in the mesh's sorted
-   constraint and load lists, and the per-step record BDLT (formats/stream.md 7.7). */
+   constraint and load lists, building a BDLT and applying it to the mesh. */
 #include <stdlib.h>
 #include <string.h>
 #include "aug_cut.h"
@@ -18,19 +18,6 @@ double aug_mesh_load(const aug_mesh *m, int32_t dof)
     int64_t k = aug_find_i32(m->load_dof, m->nload, dof);
     return k < 0 ? 0.0 : m->load_val[k];
 }
-
-void aug_bdelta_init(aug_bdelta *b) { memset(b, 0, sizeof *b); }
-
-void aug_bdelta_free(aug_bdelta *b)
-{
-    free(b->fix_dof);
-    free(b->fix_val);
-    free(b->load_dof);
-    free(b->load_val);
-    aug_bdelta_init(b);
-}
-
-int aug_bdelta_empty(const aug_bdelta *b) { return b->nfix == 0 && b->nload == 0; }
 
 static int push(int32_t **d, double **v, int64_t *n, int64_t *cap, int32_t dof, double val)
 {
@@ -97,62 +84,6 @@ int aug_bdelta_finish(aug_bdelta *b)
 {
     return finish(b->fix_dof, b->fix_val, &b->nfix) || finish(b->load_dof, b->load_val, &b->nload)
                ? -1 : 0;
-}
-
-int aug_write_bdelta(aug_writer *w, const aug_bdelta *b, aug_err *e)
-{
-    aug_buf p;
-    aug_buf_init(&p);
-    aug_buf_i64(&p, b->nfix);
-    aug_buf_i32v(&p, b->fix_dof, (size_t)b->nfix);
-    aug_buf_f64v(&p, b->fix_val, (size_t)b->nfix);
-    aug_buf_i64(&p, b->nload);
-    aug_buf_i32v(&p, b->load_dof, (size_t)b->nload);
-    aug_buf_f64v(&p, b->load_val, (size_t)b->nload);
-    int rc = p.failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "BDLT", "out of memory")
-                      : aug_write(w, "BDLT", b->step, p.p, p.len, e);
-    aug_buf_free(&p);
-    return rc;
-}
-
-#define BAD(...) aug_err_set(e, AUG_EPAYLOAD, rec->index, rec->type, __VA_ARGS__)
-
-static int read_list(aug_cur *c, const aug_rec *rec, int64_t *n, int32_t **d, double **v,
-                     const char *what, aug_err *e)
-{
-    *n = aug_cur_i64(c);
-    if (*n < 0 || *n > INT32_MAX || !aug_cur_has(c, (uint64_t)*n, 12))
-        return BAD("bad %s count", what);
-    *d = aug_malloc((size_t)*n * sizeof **d + 1);
-    *v = aug_malloc((size_t)*n * sizeof **v + 1);
-    if (!*d || !*v) return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
-    aug_cur_i32v(c, *d, (uint64_t)*n);
-    aug_cur_f64v(c, *v, (uint64_t)*n);
-    for (int64_t i = 0; i < *n; i++) {
-        if ((*d)[i] < 0 || (i > 0 && (*d)[i] <= (*d)[i - 1]))
-            return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
-                               "%s dofs not strictly increasing at %lld", what, (long long)i);
-        if (!((*v)[i] - (*v)[i] == 0))
-            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "%s value not finite", what);
-    }
-    return 0;
-}
-
-int aug_read_bdelta(const aug_rec *rec, aug_bdelta *b, aug_err *e)
-{
-    aug_err_clear(e);
-    aug_bdelta_init(b);
-    aug_cur c;
-    aug_cur_init(&c, rec);
-    b->step = rec->step;
-    int rc = read_list(&c, rec, &b->nfix, &b->fix_dof, &b->fix_val, "constraint", e);
-    if (rc) return rc;
-    b->capfix = b->nfix;
-    rc = read_list(&c, rec, &b->nload, &b->load_dof, &b->load_val, "load", e);
-    if (rc) return rc;
-    b->capload = b->nload;
-    if (!c.ok || c.pos != c.len) return BAD("payload size does not match its counts");
-    return 0;
 }
 
 /* merge sorted (d, v) into the sorted list (*ld, *lv, *ln): new values replace */

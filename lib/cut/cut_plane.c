@@ -1,6 +1,7 @@
 /* Advancing planar cut by node duplication (AMPS sec. 4.3.2; augmented-matrix
    paper sec. 4.3.2): the faces between elements on the two sides of n.x = d
    open node by node along the advance direction. */
+#include <gsl/gsl_rng.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -272,3 +273,31 @@ nomem:
     aug_edgeset_free(&done);
     return aug_err_set(e, AUG_ENOMEM, -1, "pATH", "out of memory");
 }
+
+/* a random plane: normal uniform on the sphere (circle in 2-D), through a point
+   in the middle half of the bounding box */
+void aug_plane_random(const aug_mesh *m, unsigned long seed, double n[4])
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, seed);
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, s = 0;
+    for (int64_t i = 0; i < m->nn; i++)
+        for (int k = 0; k < m->dim; k++) {
+            lo[k] = fmin(lo[k], m->x[i * m->dim + k]);
+            hi[k] = fmax(hi[k], m->x[i * m->dim + k]);
+        }
+    do {
+        s = 0;
+        for (int k = 0; k < 3; k++) {
+            n[k] = k < m->dim ? 2 * gsl_rng_uniform(r) - 1 : 0;
+            s += n[k] * n[k];
+        }
+    } while (s > 1 || s < 1e-4);
+    n[3] = 0;
+    for (int k = 0; k < m->dim; k++) {
+        n[k] /= sqrt(s);
+        n[3] += n[k] * (lo[k] + (0.25 + 0.5 * gsl_rng_uniform(r)) * (hi[k] - lo[k]));
+    }
+    gsl_rng_free(r);
+}
+

@@ -130,3 +130,31 @@ int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e)
 nomem:
     return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
 }
+
+int aug_cut_step_write(aug_writer *w, const aug_mesh *m, const aug_cut_step *s, int stats,
+                       int64_t n, double ms, aug_err *e)
+{
+    aug_err_clear(e);
+    if (aug_write_mdelta(w, m->dim, m->nv, &s->d, e)) return e->code;
+    if (!aug_bdelta_empty(&s->bc) && aug_write_bdelta(w, &s->bc, e)) return e->code;
+    if (aug_write_update(w, &s->u, e)) return e->code;
+    aug_pathrec p = {s->step, m->dim, s->nseg, s->seg};
+    if (aug_write_path(w, &p, e)) return e->code;
+    if (!stats) return 0;
+    aug_kv q;
+    aug_kv_init(&q, "cut");
+    aug_kv_set(&q, "m", s->u.m);
+    aug_kv_set(&q, "k", s->u.k);
+    aug_kv_set(&q, "n", (double)n);
+    aug_kv_set(&q, "nnew", (double)s->d.nnew);
+    aug_kv_set(&q, "nmod", (double)s->d.nmod);
+    aug_kv_set(&q, "nadd", (double)s->d.nadd);
+    aug_kv_set(&q, "nfix", (double)s->bc.nfix);
+    aug_kv_set(&q, "nload", (double)s->bc.nload);
+    aug_kv_set(&q, "pieces", (double)s->npieces);
+    aug_kv_set(&q, "flags", s->d.flags);
+    if (aug_write_kv(w, "sTAt", s->step, &q, e)) return e->code;
+    aug_kv_init(&q, "cut");
+    aug_kv_set(&q, "time_ms", ms);
+    return aug_write_kv(w, "tIMe", s->step, &q, e);
+}

@@ -282,3 +282,44 @@ fail:
     free(seen);
     return NULL;
 }
+
+int aug_fact_info(const aug_rec *rec, int64_t *n, int64_t *nnz, int32_t *ordering)
+{
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    *n = aug_cur_i64(&c), *nnz = aug_cur_i64(&c);
+    *ordering = aug_cur_i32(&c);
+    return c.ok ? 0 : -1;
+}
+
+static int fact_check(const aug_rec *rec, aug_err *e)
+{
+    cholmod_common cm;
+    aug_cholmod_start(&cm);
+    cholmod_factor *L = aug_read_factor(rec, &cm, e);
+    int rc = L ? 0 : e->code;
+    cholmod_free_factor(&L, &cm);
+    cholmod_finish(&cm);
+    return rc;
+}
+
+static int fact_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    (void)m;
+    if (fact_check(rec, e)) return e->code;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int64_t n = aug_cur_i64(&c), nnz = aug_cur_i64(&c);
+    int32_t ord = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    aug_txt_header(o, rec);
+    fprintf(o, "  n %lld\n  nnz %lld\n  ordering %d (%s)\n", (long long)n, (long long)nnz,
+            (int)ord, aug_ordering_name(ord));
+    aug_txt_i32s(o, "perm", &c, (uint64_t)n);
+    aug_txt_i64s(o, "colptr", &c, (uint64_t)n + 1);
+    aug_txt_i32s(o, "rowind", &c, (uint64_t)nnz);
+    aug_txt_f64s(o, "value", &c, (uint64_t)nnz);
+    return 0;
+}
+
+const aug_codec aug_codec_fact = {"lib/fem/factor_rec.c", fact_check, fact_dump};

@@ -1,4 +1,4 @@
-/* fELD record: a nodal field of one step, all nodes or an indexed subset
+/* Field-family codec: fELD, a nodal field of one step, all nodes or an indexed subset
    (formats/stream.md 7.3). */
 #include <math.h>
 #include <stdlib.h>
@@ -68,3 +68,35 @@ int aug_read_field(const aug_rec *rec, int32_t *kind, int *dim, int64_t *count,
     *u = x;
     return 0;
 }
+
+static int feld_check(const aug_rec *rec, aug_err *e)
+{
+    int32_t kind, *nodes;
+    int dim;
+    int64_t count;
+    double *u;
+    int rc = aug_read_field(rec, &kind, &dim, &count, &nodes, &u, e);
+    free(nodes);
+    free(u);
+    return rc;
+}
+
+static int feld_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    (void)m;
+    if (feld_check(rec, e)) return e->code;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t kind = aug_cur_i32(&c), dim = aug_cur_i32(&c);
+    int64_t count = aug_cur_i64(&c);
+    int32_t indexed = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    aug_txt_header(o, rec);
+    fprintf(o, "  kind %d\n  dim %d\n  count %lld\n  indexed %d\n", (int)kind, (int)dim,
+            (long long)count, (int)indexed);
+    if (indexed) aug_txt_i32s(o, "node", &c, (uint64_t)count);
+    aug_txt_rows_f64(o, "u", &c, (uint64_t)count, dim);
+    return 0;
+}
+
+const aug_codec aug_codec_feld = {"lib/fem/field_rec.c", feld_check, feld_dump};

@@ -1,5 +1,5 @@
-/* Matrix-phase records DOFM (DOF numbering), KMAT (sparse symmetric matrix) and
-   FVEC (vector over the free DOFs), formats/stream.md 6.1-6.3. */
+/* Matrix-family codecs (formats/stream.md 6.1-6.3): DOFM (DOF numbering), KMAT
+   (sparse symmetric matrix, upper triangle) and FVEC (vector over the free DOFs). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -232,3 +232,97 @@ int aug_read_vector(const aug_rec *rec, int32_t *kind, int64_t *n, double **v, a
     *v = x;
     return 0;
 }
+
+static int dofm_check(const aug_rec *rec, aug_err *e)
+{
+    int dim;
+    int64_t nd, nf;
+    int32_t *map;
+    int rc = aug_read_dofmap(rec, &dim, &nd, &nf, &map, e);
+    free(map);
+    return rc;
+}
+
+static int dofm_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    (void)m;
+    if (dofm_check(rec, e)) return e->code;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t dim = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    int64_t ndof = aug_cur_i64(&c), nfree = aug_cur_i64(&c);
+    aug_txt_header(o, rec);
+    fprintf(o, "  dim %d\n  ndof %lld\n  nfree %lld\n", (int)dim, (long long)ndof,
+            (long long)nfree);
+    aug_txt_i32s(o, "map", &c, (uint64_t)ndof);
+    return 0;
+}
+
+int aug_kmat_info(const aug_rec *rec, int32_t *which, int32_t *stype, int64_t *n, int64_t *nnz)
+{
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    *which = aug_cur_i32(&c), *stype = aug_cur_i32(&c);
+    *n = aug_cur_i64(&c), *nnz = aug_cur_i64(&c);
+    return c.ok ? 0 : -1;
+}
+
+static int kmat_check(const aug_rec *rec, aug_err *e)
+{
+    cholmod_common cm;
+    aug_cholmod_start(&cm);
+    cholmod_sparse *A = aug_read_sparse(rec, NULL, &cm, e);
+    int rc = A ? 0 : e->code;
+    cholmod_free_sparse(&A, &cm);
+    cholmod_finish(&cm);
+    return rc;
+}
+
+static int kmat_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    (void)m;
+    if (kmat_check(rec, e)) return e->code;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t which = aug_cur_i32(&c), stype = aug_cur_i32(&c);
+    int64_t n = aug_cur_i64(&c), nnz = aug_cur_i64(&c);
+    static const char *names[] = {"stiffness K", "consistent mass M", "lumped mass"};
+    aug_txt_header(o, rec);
+    fprintf(o, "  which %d (%s)\n  stype %d\n  n %lld\n  nnz %lld\n", (int)which,
+            which >= 0 && which <= 2 ? names[which] : "unknown", (int)stype, (long long)n,
+            (long long)nnz);
+    aug_txt_i64s(o, "colptr", &c, (uint64_t)n + 1);
+    aug_txt_i32s(o, "rowind", &c, (uint64_t)nnz);
+    aug_txt_f64s(o, "value", &c, (uint64_t)nnz);
+    return 0;
+}
+
+static int fvec_check(const aug_rec *rec, aug_err *e)
+{
+    int32_t kind;
+    int64_t n;
+    double *v;
+    int rc = aug_read_vector(rec, &kind, &n, &v, e);
+    free(v);
+    return rc;
+}
+
+static int fvec_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    (void)m;
+    if (fvec_check(rec, e)) return e->code;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t kind = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    int64_t n = aug_cur_i64(&c);
+    aug_txt_header(o, rec);
+    fprintf(o, "  kind %d\n  n %lld\n", (int)kind, (long long)n);
+    aug_txt_f64s(o, "v", &c, (uint64_t)n);
+    return 0;
+}
+
+const aug_codec aug_codec_dofm = {"lib/fem/matrix_rec.c", dofm_check, dofm_dump};
+const aug_codec aug_codec_kmat = {"lib/fem/matrix_rec.c", kmat_check, kmat_dump};
+const aug_codec aug_codec_fvec = {"lib/fem/matrix_rec.c", fvec_check, fvec_dump};

@@ -1,4 +1,5 @@
-/* Per-step records MDLT (mesh delta) and UPDT (principal submatrix update, AMPS eq. 3.1). */
+/* Mesh deltas and updates in memory: init/free, and aug_mesh_apply (a step's
+   mesh change applied to the current mesh, formats/stream.md 7.1). */
 #include <stdlib.h>
 #include <string.h>
 #include "aug_update.h"
@@ -23,122 +24,19 @@ void aug_update_free(aug_update *u)
     aug_update_init(u);
 }
 
-static int emit(aug_writer *w, const char *type, int32_t step, aug_buf *b, aug_err *e)
+void aug_bdelta_init(aug_bdelta *b) { memset(b, 0, sizeof *b); }
+
+void aug_bdelta_free(aug_bdelta *b)
 {
-    int rc = b->failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), type, "out of memory")
-                       : aug_write(w, type, step, b->p, b->len, e);
-    aug_buf_free(b);
-    return rc;
+    free(b->fix_dof);
+    free(b->fix_val);
+    free(b->load_dof);
+    free(b->load_val);
+    aug_bdelta_init(b);
 }
 
-int aug_write_mdelta(aug_writer *w, int dim, int nv, const aug_mdelta *d, aug_err *e)
-{
-    aug_buf b;
-    aug_buf_init(&b);
-    aug_buf_i64(&b, d->nnew);
-    aug_buf_i32v(&b, d->parent, (size_t)d->nnew);
-    aug_buf_f64v(&b, d->x, (size_t)(d->nnew * dim));
-    aug_buf_i64(&b, d->nmod);
-    aug_buf_i32v(&b, d->elem, (size_t)d->nmod);
-    aug_buf_i32v(&b, d->conn, (size_t)(d->nmod * nv));
-    aug_buf_i64(&b, d->nadd);
-    aug_buf_i32v(&b, d->conn_add, (size_t)(d->nadd * nv));
-    aug_buf_i32v(&b, d->mat_add, (size_t)d->nadd);
-    aug_buf_i32(&b, d->flags);
-    aug_buf_i32(&b, 0);
-    return emit(w, "MDLT", d->step, &b, e);
-}
+int aug_bdelta_empty(const aug_bdelta *b) { return b->nfix == 0 && b->nload == 0; }
 
-#define BAD(...) aug_err_set(e, AUG_EPAYLOAD, rec->index, rec->type, __VA_ARGS__)
-
-/* read a count followed by per-item arrays of `per` bytes in all */
-static int count_ok(aug_cur *c, int64_t n, uint64_t per)
-{
-    return n >= 0 && n <= INT32_MAX && aug_cur_has(c, (uint64_t)n, per);
-}
-
-int aug_read_mdelta(const aug_rec *rec, int dim, int nv, aug_mdelta *d, aug_err *e)
-{
-    aug_err_clear(e);
-    aug_mdelta_init(d);
-    aug_cur c;
-    aug_cur_init(&c, rec);
-    d->step = rec->step;
-    d->nnew = aug_cur_i64(&c);
-    if (!count_ok(&c, d->nnew, 4 + 8 * (uint64_t)dim)) return BAD("bad new-node count");
-    d->parent = aug_malloc((size_t)d->nnew * 4);
-    d->x = aug_malloc((size_t)(d->nnew * dim) * 8);
-    if (!d->parent || !d->x) goto nomem;
-    aug_cur_i32v(&c, d->parent, (uint64_t)d->nnew);
-    aug_cur_f64v(&c, d->x, (uint64_t)d->nnew * dim);
-    d->nmod = aug_cur_i64(&c);
-    if (!count_ok(&c, d->nmod, 4 * (uint64_t)(nv + 1))) return BAD("bad changed-element count");
-    d->elem = aug_malloc((size_t)d->nmod * 4);
-    d->conn = aug_malloc((size_t)(d->nmod * nv) * 4);
-    if (!d->elem || !d->conn) goto nomem;
-    aug_cur_i32v(&c, d->elem, (uint64_t)d->nmod);
-    aug_cur_i32v(&c, d->conn, (uint64_t)d->nmod * nv);
-    d->nadd = aug_cur_i64(&c);
-    if (!count_ok(&c, d->nadd, 4 * (uint64_t)(nv + 1))) return BAD("bad added-element count");
-    d->conn_add = aug_malloc((size_t)(d->nadd * nv) * 4);
-    d->mat_add = aug_malloc((size_t)d->nadd * 4);
-    if (!d->conn_add || !d->mat_add) goto nomem;
-    aug_cur_i32v(&c, d->conn_add, (uint64_t)d->nadd * nv);
-    aug_cur_i32v(&c, d->mat_add, (uint64_t)d->nadd);
-    d->flags = aug_cur_i32(&c);
-    aug_cur_i32(&c);
-    if (!c.ok || c.pos != c.len) return BAD("payload size does not match its counts");
-    return 0;
-nomem:
-    return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
-}
-
-int aug_write_update(aug_writer *w, const aug_update *u, aug_err *e)
-{
-    aug_buf b;
-    aug_buf_init(&b);
-    size_t s = (size_t)u->m + (size_t)u->k;
-    aug_buf_i32(&b, u->m);
-    aug_buf_i32(&b, u->k);
-    aug_buf_i32v(&b, u->H, (size_t)u->m);
-    aug_buf_f64v(&b, u->E, s * s);
-    aug_buf_f64v(&b, u->df, s);
-    return emit(w, "UPDT", u->step, &b, e);
-}
-
-int aug_read_update(const aug_rec *rec, aug_update *u, aug_err *e)
-{
-    aug_err_clear(e);
-    aug_update_init(u);
-    aug_cur c;
-    aug_cur_init(&c, rec);
-    u->step = rec->step;
-    u->m = aug_cur_i32(&c);
-    u->k = aug_cur_i32(&c);
-    if (u->m < 0 || u->k < 0 || (int64_t)u->m + u->k > 1 << 20)
-        return BAD("impossible sizes m = %d, k = %d", (int)u->m, (int)u->k);
-    uint64_t s = (uint64_t)u->m + (uint64_t)u->k;
-    if (c.len - c.pos != 4 * (uint64_t)u->m + 8 * s * s + 8 * s)
-        return BAD("payload size does not match m = %d, k = %d", (int)u->m, (int)u->k);
-    u->H = aug_malloc((size_t)u->m * 4);
-    u->E = aug_malloc((size_t)(s * s) * 8);
-    u->df = aug_malloc((size_t)s * 8);
-    if (!u->H || !u->E || !u->df)
-        return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
-    aug_cur_i32v(&c, u->H, (uint64_t)u->m);
-    aug_cur_f64v(&c, u->E, s * s);
-    aug_cur_f64v(&c, u->df, s);
-    for (int32_t i = 0; i < u->m; i++)
-        if (u->H[i] < 0 || (i > 0 && u->H[i] <= u->H[i - 1]))
-            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "H not increasing at %d", (int)i);
-    for (uint64_t i = 0; i < s; i++)
-        for (uint64_t j = 0; j < i; j++)
-            if (u->E[i + j * s] != u->E[j + i * s])
-                return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "E is not symmetric");
-    return 0;
-}
-
-/* append n ints to a sorted array */
 static int append_i32(int32_t **a, int64_t *n, const int32_t *v, int64_t k)
 {
     if (k == 0) return 0;

@@ -38,9 +38,8 @@ struct aug_summary {
     int ntc;
     char **prov;
     int nprov;
-    aug_mesh mesh;
+    aug_replay rp;             /* the scene, mesh deltas of steps <= limit applied */
     snap init, fin;
-    long applied;              /* mesh deltas applied (step <= limit) */
     int have_dofm;
     int64_t ndof, nfree;
     int nkmat, nfvec, ncond;
@@ -88,7 +87,8 @@ aug_summary *aug_summary_new(const aug_reader *r, int32_t step_limit, aug_err *e
     s->last_step = -1;
     s->f_step = -1;
     s->qual_step = -1;
-    aug_mesh_init(&s->mesh);
+    aug_replay_init(&s->rp);
+    s->rp.step_limit = step_limit;
     aug_steptab_init(&s->tab);
     memcpy(s->tc[0].type, "HEAD", 5);
     s->tc[0].count = 1;
@@ -112,7 +112,7 @@ void aug_summary_free(aug_summary *s)
     if (!s) return;
     for (int i = 0; i < s->nprov; i++) free(s->prov[i]);
     free(s->prov);
-    aug_mesh_free(&s->mesh);
+    aug_replay_free(&s->rp);
     snap_free(&s->init);
     snap_free(&s->fin);
     free(s->m_all);
@@ -141,7 +141,7 @@ static void count(aug_summary *s, const aug_rec *rec)
 /* figures of the current mesh (nothing when it has no elements yet) */
 static int take_snap(aug_summary *s, snap *p)
 {
-    const aug_mesh *m = &s->mesh;
+    const aug_mesh *m = &s->rp.mesh;
     snap_free(p);
     memset(p, 0, sizeof *p);
     if ((m->have & (AUG_HAVE_NODE | AUG_HAVE_ELEM | AUG_HAVE_MATL)) !=
@@ -180,55 +180,32 @@ static int take_snap(aug_summary *s, snap *p)
     return 0;
 }
 
-static int add_prov(aug_summary *s, const aug_rec *rec)
+static int add_prov(aug_summary *s, const aug_rec *rec, aug_err *e)
 {
     char **q = aug_realloc(s->prov, (size_t)(s->nprov + 1) * sizeof *q);
-    if (!q) return -1;
+    if (!q) return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
     s->prov = q;
-    char *t = aug_malloc((size_t)rec->len + 1);
-    if (!t) return -1;
-    memcpy(t, rec->data, (size_t)rec->len);
-    t[rec->len] = 0;
-    s->prov[s->nprov++] = t;
+    if (aug_read_prov(rec, &s->prov[s->nprov], e)) return e->code;
+    s->nprov++;
     return 0;
 }
 
 static int add_mdlt(aug_summary *s, const aug_rec *rec, aug_err *e)
 {
-    aug_mesh *m = &s->mesh;
+    aug_mesh *m = &s->rp.mesh;
     if ((m->have & (AUG_HAVE_NODE | AUG_HAVE_ELEM)) != (AUG_HAVE_NODE | AUG_HAVE_ELEM))
         return aug_err_set(e, AUG_EORDER, rec->index, rec->type, "mesh delta before NODE and ELEM");
     if (!s->init.valid && take_snap(s, &s->init))
         return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
-    aug_mdelta d;
-    int rc = aug_read_mdelta(rec, m->dim, m->nv, &d, e);
-    if (!rc) {
+    long before = s->rp.nmdlt;
+    int rc = aug_replay_add(&s->rp, rec, e);
+    if (s->rp.nmdlt > before) {
         s->nmdlt++;
-        s->nnew += d.nnew;
-        s->nmod += d.nmod;
-        s->nadd += d.nadd;
-        for (int b = 0; b < 3; b++) s->flag_count[b] += (d.flags >> b) & 1;
-        if (rec->step <= s->limit) {
-            rc = aug_mesh_apply(m, &d, e);
-            if (rc) e->record = rec->index; /* aug_mesh_apply does not know the index */
-            else s->applied++;
-        }
+        s->nnew += s->rp.mdlt_nnew;
+        s->nmod += s->rp.mdlt_nmod;
+        s->nadd += s->rp.mdlt_nadd;
+        for (int b = 0; b < 3; b++) s->flag_count[b] += (s->rp.mdlt_flags >> b) & 1;
     }
-    aug_mdelta_free(&d);
-    return rc;
-}
-
-/* constraints and loads changed by a step, applied after its MDLT */
-static int add_bdlt(aug_summary *s, const aug_rec *rec, aug_err *e)
-{
-    aug_bdelta b;
-    aug_bdelta_init(&b);
-    int rc = aug_read_bdelta(rec, &b, e);
-    if (!rc && rec->step <= s->limit) {
-        rc = aug_mesh_apply_bc(&s->mesh, &b, e);
-        if (rc) e->record = rec->index, memcpy(e->type, "BDLT", 5);
-    }
-    aug_bdelta_free(&b);
     return rc;
 }
 
@@ -254,32 +231,24 @@ static int add_updt(aug_summary *s, const aug_rec *rec, aug_err *e)
 /* fELD: validated; the last displacement field of a step <= limit is kept */
 static int add_feld(aug_summary *s, const aug_rec *rec, aug_err *e)
 {
-    if (aug_check_payload(rec, e)) return e->code;
-    aug_cur c;
-    aug_cur_init(&c, rec);
-    int32_t kind = aug_cur_i32(&c), dim = aug_cur_i32(&c);
-    int64_t count = aug_cur_i64(&c);
-    int32_t indexed = aug_cur_i32(&c);
-    aug_cur_i32(&c);
+    int32_t kind, *node;
+    int dim;
+    int64_t count;
+    double *u;
+    if (aug_read_field(rec, &kind, &dim, &count, &node, &u, e)) return e->code;
     s->nfeld++;
-    if (kind != 0 || rec->step > s->limit) return 0;
-    int32_t *node = NULL;
-    double *u = aug_malloc((size_t)count * (size_t)dim * sizeof *u);
-    if (indexed) node = aug_malloc((size_t)count * sizeof *node);
-    if (!u || (indexed && !node)) {
-        free(u);
+    if (kind != 0 || rec->step > s->limit) {
         free(node);
-        return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+        free(u);
+        return 0;
     }
-    if (indexed) aug_cur_i32v(&c, node, (uint64_t)count);
-    aug_cur_f64v(&c, u, (uint64_t)count * dim);
     free(s->f_node);
     free(s->f_u);
     s->f_node = node;
     s->f_u = u;
     s->f_step = rec->step;
     s->f_dim = dim;
-    s->f_indexed = indexed;
+    s->f_indexed = node != NULL;
     s->f_count = count;
     s->f_max = 0;
     for (int64_t i = 0; i < count; i++) {
@@ -293,39 +262,34 @@ static int add_feld(aug_summary *s, const aug_rec *rec, aug_err *e)
 static int add_matrix(aug_summary *s, const aug_rec *rec, aug_err *e)
 {
     if (aug_check_payload(rec, e)) return e->code;
-    aug_cur c;
-    aug_cur_init(&c, rec);
     const char *t = rec->type;
     if (!memcmp(t, "DOFM", 4)) {
-        aug_cur_i32(&c);
-        aug_cur_i32(&c);
-        s->ndof = aug_cur_i64(&c);
-        s->nfree = aug_cur_i64(&c);
+        int dim;
+        int32_t *map;
+        if (aug_read_dofmap(rec, &dim, &s->ndof, &s->nfree, &map, e)) return e->code;
+        free(map);
         s->have_dofm = 1;
     } else if (!memcmp(t, "KMAT", 4)) {
-        int32_t which = aug_cur_i32(&c), stype = aug_cur_i32(&c);
-        int64_t n = aug_cur_i64(&c), nnz = aug_cur_i64(&c);
+        int32_t which, stype;
+        int64_t n, nnz;
+        aug_kmat_info(rec, &which, &stype, &n, &nnz);
         if (s->nkmat < MAXMAT) {
             s->kmat[s->nkmat].which = which, s->kmat[s->nkmat].stype = stype;
             s->kmat[s->nkmat].n = n, s->kmat[s->nkmat].nnz = nnz;
         }
         s->nkmat++;
     } else if (!memcmp(t, "FVEC", 4)) {
-        int32_t kind = aug_cur_i32(&c);
-        aug_cur_i32(&c);
-        int64_t n = aug_cur_i64(&c);
-        double ss = 0;
-        for (int64_t i = 0; i < n; i++) {
-            double v = aug_cur_f64(&c);
-            ss += v * v;
-        }
+        int32_t kind;
+        int64_t n;
+        double *v, ss = 0;
+        if (aug_read_vector(rec, &kind, &n, &v, e)) return e->code;
+        for (int64_t i = 0; i < n; i++) ss += v[i] * v[i];
+        free(v);
         if (s->nfvec < MAXMAT) s->fvec[s->nfvec].kind = kind, s->fvec[s->nfvec].n = n,
                                s->fvec[s->nfvec].norm = sqrt(ss);
         s->nfvec++;
     } else if (!memcmp(t, "FACT", 4)) {
-        s->fact_n = aug_cur_i64(&c);
-        s->fact_nnz = aug_cur_i64(&c);
-        s->fact_ord = aug_cur_i32(&c);
+        aug_fact_info(rec, &s->fact_n, &s->fact_nnz, &s->fact_ord);
         s->have_fact = 1;
     } else { /* cOND */
         aug_kv kv;
@@ -334,6 +298,16 @@ static int add_matrix(aug_summary *s, const aug_rec *rec, aug_err *e)
         s->ncond++;
     }
     return 0;
+}
+
+static int add_path(aug_summary *s, const aug_rec *rec, aug_err *e)
+{
+    aug_pathrec p;
+    int rc = aug_read_path(rec, &p, e);
+    s->npath++;
+    if (!rc) s->nseg += p.nseg;
+    aug_pathrec_free(&p);
+    return rc;
 }
 
 static int is(const aug_rec *rec, const char *t) { return memcmp(rec->type, t, 4) == 0; }
@@ -349,27 +323,23 @@ int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e)
     }
     int rc = 0;
     if (is(rec, "pROv")) {
-        if (add_prov(s, rec)) rc = aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+        rc = add_prov(s, rec, e);
     } else if (aug_mesh_is_record(rec->type)) {
-        rc = aug_mesh_absorb(&s->mesh, rec, e);
+        rc = aug_replay_add(&s->rp, rec, e);
     } else if (is(rec, "DOFM") || is(rec, "KMAT") || is(rec, "FVEC") || is(rec, "FACT") ||
                is(rec, "cOND")) {
-        rc = add_matrix(s, rec, e);
+        rc = aug_replay_add(&s->rp, rec, e);
+        if (!rc) rc = add_matrix(s, rec, e);
     } else if (is(rec, "MDLT")) {
         rc = add_mdlt(s, rec, e);
     } else if (is(rec, "UPDT")) {
         rc = add_updt(s, rec, e);
     } else if (is(rec, "BDLT")) {
-        rc = add_bdlt(s, rec, e);
+        rc = aug_replay_add(&s->rp, rec, e); /* applied after its MDLT */
     } else if (is(rec, "fELD")) {
         rc = add_feld(s, rec, e);
     } else if (is(rec, "pATH")) {
-        rc = aug_check_payload(rec, e);
-        aug_cur c;
-        aug_cur_init(&c, rec);
-        c.pos = 8;
-        s->npath++;
-        s->nseg += rc ? 0 : aug_cur_i64(&c);
+        rc = add_path(s, rec, e);
     } else if (is(rec, "sTAt") || is(rec, "tIMe")) {
         rc = aug_steptab_add(&s->tab, rec, e);
     } else if (is(rec, "qUAl")) {
@@ -396,7 +366,7 @@ int32_t aug_summary_last_step(const aug_summary *s) { return s->last_step; }
 const aug_mesh *aug_summary_mesh(const aug_summary *s)
 {
     int need = AUG_HAVE_NODE | AUG_HAVE_ELEM | AUG_HAVE_MATL;
-    return (s->mesh.have & need) == need ? &s->mesh : NULL;
+    return (s->rp.mesh.have & need) == need ? &s->rp.mesh : NULL;
 }
 
 int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned char **mask,
@@ -455,7 +425,7 @@ static void print_hist(FILE *o, const char *what, const double *edges, const int
 
 static void print_quality(FILE *o, const aug_summary *s, const snap *p, const char *which)
 {
-    const aug_mesh *m = &s->mesh;
+    const aug_mesh *m = &s->rp.mesh;
     int tet = m->nv == 4;
     const char *ang = tet ? "min dihedral" : "min angle";
     fprintf(o, "quality (%s mesh: %lld elements)\n", which, (long long)p->q.ne);
@@ -487,7 +457,7 @@ static void print_prov(FILE *o, const aug_summary *s)
 
 static void print_mesh(FILE *o, const aug_summary *s)
 {
-    const aug_mesh *m = &s->mesh;
+    const aug_mesh *m = &s->rp.mesh;
     const snap *p = &s->init;
     fprintf(o, "mesh\n");
     fprintf(o, "  dimension        %d (%s)\n", m->dim, m->nv == 4 ? "tet4" : "tri3");
@@ -509,7 +479,7 @@ static void print_mesh(FILE *o, const aug_summary *s)
 
 static void print_scene(FILE *o, const aug_summary *s)
 {
-    const aug_mesh *m = &s->mesh;
+    const aug_mesh *m = &s->rp.mesh;
     const snap *p = &s->init;
     fprintf(o, "sets (%d)\n", m->nset);
     for (int i = 0; i < m->nset; i++)
@@ -620,7 +590,7 @@ static void print_steps(FILE *o, const aug_summary *s)
     }
     if (s->fin.valid)
         fprintf(o, "  final mesh       %lld nodes, %lld elements (after %ld mesh deltas)\n",
-                (long long)s->fin.nn, (long long)s->fin.ne, s->applied);
+                (long long)s->fin.nn, (long long)s->fin.ne, s->rp.applied);
     if (s->nupdt) {
         double *m = aug_malloc((size_t)s->nupdt * sizeof *m);
         double med = NAN;
@@ -653,7 +623,7 @@ int aug_summary_print(FILE *o, aug_summary *s, const char *name, aug_err *e)
 {
     aug_err_clear(e);
     if (!s->init.valid && take_snap(s, &s->init)) goto nomem;
-    if (s->applied && take_snap(s, &s->fin)) goto nomem;
+    if (s->rp.applied && take_snap(s, &s->fin)) goto nomem;
     fprintf(o, "stream %s%s\n", name, s->complete ? "" : " (INCOMPLETE: reading stopped at an error)");
     fprintf(o, "  producer         %s (format %d.%u)\n", s->producer, AUG_VERSION_MAJOR,
             (unsigned)s->minor);
@@ -670,8 +640,8 @@ int aug_summary_print(FILE *o, aug_summary *s, const char *name, aug_err *e)
     if (s->init.valid) {
         print_mesh(o, s);
         print_scene(o, s);
-        print_quality(o, s, &s->init, s->applied ? "initial" : "whole");
-    } else if (s->mesh.have) {
+        print_quality(o, s, &s->init, s->rp.applied ? "initial" : "whole");
+    } else if (s->rp.mesh.have) {
         fprintf(o, "mesh               incomplete (NODE, MATL and ELEM needed)\n");
     }
     print_matrices(o, s);

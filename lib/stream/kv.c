@@ -1,4 +1,5 @@
-/* Named-value records (cOND sTAt tIMe qUAl): tag, count, (key[16], f64) pairs. */
+/* Key/value family codec (formats/stream.md 6.5, 7.4): cOND sTAt tIMe qUAl, a
+   tag, a count and (key[16], f64) pairs. */
 #include <string.h>
 #include "aug_stream.h"
 
@@ -68,3 +69,29 @@ int aug_read_kv(const aug_rec *rec, aug_kv *kv, aug_err *e)
     kv->n = n;
     return 0;
 }
+
+static int kv_check(const aug_rec *rec, aug_err *e)
+{
+    aug_kv kv;
+    return aug_read_kv(rec, &kv, e);
+}
+
+static int kv_dump(FILE *o, struct aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    (void)m;
+    aug_kv kv;
+    if (aug_read_kv(rec, &kv, e)) return e->code;
+    aug_txt_header(o, rec);
+    aug_txt_name(o, "tag", kv.tag, sizeof kv.tag);
+    fprintf(o, "  n %d\n", kv.n);
+    for (int i = 0; i < kv.n; i++) { /* indented: a key may be called "n" too */
+        fputs("    ", o);
+        aug_txt_esc(o, kv.key[i], strnlen(kv.key[i], 16), 0);
+        fputc(' ', o);
+        aug_txt_f(o, kv.val[i]);
+        fputc('\n', o);
+    }
+    return 0;
+}
+
+const aug_codec aug_codec_kv = {"lib/stream/kv.c", kv_check, kv_dump};

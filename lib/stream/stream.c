@@ -14,33 +14,33 @@ const unsigned char aug_signature[8] = {0x89, 'A', 'U', 'G', '\r', '\n', 0x1a, '
 /* zlib cannot expand by more than about 1032:1 */
 #define MAX_INFLATE_RATIO 1040u
 
-/* One row per record type: inflated payload bounds, phase, multiplicity.
-   formats/stream.md section "Record table" is the normative copy. */
+/* One row per record type: inflated payload bounds, phase, multiplicity and
+   its codec. formats/stream.md section "Record table" is the normative copy. */
 static const aug_rectype table[] = {
-    {"HEAD", 8, 4096, 0, 1, 0},
-    {"pROv", 0, 1 << 20, -1, 0, 0},
-    {"NODE", 16, AUG_MAX_BODY, 1, 1, 0},
-    {"ELEM", 16, AUG_MAX_BODY, 1, 1, 0},
-    {"MATL", 4, 1 << 24, 1, 1, 0},
-    {"nSEt", 72, AUG_MAX_BODY, 1, 0, 0},
-    {"FIXD", 8, AUG_MAX_BODY, 1, 1, 0},
-    {"LOAD", 8, AUG_MAX_BODY, 1, 1, 0},
-    {"oUTs", 80, AUG_MAX_BODY, 1, 1, 0},
-    {"DOFM", 24, AUG_MAX_BODY, 2, 1, 0},
-    {"KMAT", 24, AUG_MAX_BODY, 2, 0, 0},
-    {"FVEC", 16, AUG_MAX_BODY, 2, 0, 0},
-    {"FACT", 24, AUG_MAX_BODY, 2, 1, 0},
-    {"cOND", 24, 1 << 20, 2, 0, 0},
-    {"MDLT", 32, AUG_MAX_BODY, 3, 0, 1},
-    {"BDLT", 16, AUG_MAX_BODY, 3, 0, 1},
-    {"UPDT", 8, AUG_MAX_BODY, 3, 0, 1},
-    {"pATH", 16, AUG_MAX_BODY, 3, 0, 1},
-    {"fELD", 24, AUG_MAX_BODY, 3, 0, 1},
-    {"sTAt", 24, 1 << 20, 3, 0, 1},
-    {"tIMe", 24, 1 << 20, 3, 0, 1},
-    {"qUAl", 24, 1 << 20, 3, 0, 1},
-    {"MODE", 16, AUG_MAX_BODY, 3, 0, 1},
-    {"TAIL", 8, 8, 4, 1, 0},
+    {"HEAD", 8, 4096, 0, 1, 0, &aug_codec_head},
+    {"pROv", 0, 1 << 20, -1, 0, 0, &aug_codec_prov},
+    {"NODE", 16, AUG_MAX_BODY, 1, 1, 0, &aug_codec_node},
+    {"ELEM", 16, AUG_MAX_BODY, 1, 1, 0, &aug_codec_elem},
+    {"MATL", 4, 1 << 24, 1, 1, 0, &aug_codec_matl},
+    {"nSEt", 72, AUG_MAX_BODY, 1, 0, 0, &aug_codec_nset},
+    {"FIXD", 8, AUG_MAX_BODY, 1, 1, 0, &aug_codec_fixd},
+    {"LOAD", 8, AUG_MAX_BODY, 1, 1, 0, &aug_codec_load},
+    {"oUTs", 80, AUG_MAX_BODY, 1, 1, 0, &aug_codec_outs},
+    {"DOFM", 24, AUG_MAX_BODY, 2, 1, 0, &aug_codec_dofm},
+    {"KMAT", 24, AUG_MAX_BODY, 2, 0, 0, &aug_codec_kmat},
+    {"FVEC", 16, AUG_MAX_BODY, 2, 0, 0, &aug_codec_fvec},
+    {"FACT", 24, AUG_MAX_BODY, 2, 1, 0, &aug_codec_fact},
+    {"cOND", 24, 1 << 20, 2, 0, 0, &aug_codec_kv},
+    {"MDLT", 32, AUG_MAX_BODY, 3, 0, 1, &aug_codec_mdlt},
+    {"BDLT", 16, AUG_MAX_BODY, 3, 0, 1, &aug_codec_bdlt},
+    {"UPDT", 8, AUG_MAX_BODY, 3, 0, 1, &aug_codec_updt},
+    {"pATH", 16, AUG_MAX_BODY, 3, 0, 1, &aug_codec_path},
+    {"fELD", 24, AUG_MAX_BODY, 3, 0, 1, &aug_codec_feld},
+    {"sTAt", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
+    {"tIMe", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
+    {"qUAl", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
+    {"MODE", 16, AUG_MAX_BODY, 3, 0, 1, &aug_codec_mode},
+    {"TAIL", 8, 8, 4, 1, 0, &aug_codec_tail},
 };
 
 const aug_rectype *aug_rectype_find(const char *type)
@@ -576,22 +576,6 @@ int aug_write_rec(aug_writer *w, const aug_rec *rec, aug_err *e)
     return 0;
 }
 
-int aug_write_prov(aug_writer *w, int argc, char **argv, aug_err *e)
-{
-    aug_buf b;
-    aug_buf_init(&b);
-    const char *ver = "augcut " AUG_VERSION_STRING;
-    aug_buf_put(&b, ver, strlen(ver));
-    for (int i = 0; i < argc; i++) {
-        aug_buf_put(&b, i == 0 ? "\n" : " ", 1);
-        aug_buf_put(&b, argv[i], strlen(argv[i]));
-    }
-    int rc = b.failed ? aug_err_set(e, AUG_ENOMEM, w->count, "pROv", "out of memory")
-                      : aug_write(w, "pROv", AUG_NOSTEP, b.p, b.len, e);
-    aug_buf_free(&b);
-    return rc;
-}
-
 int aug_writer_close(aug_writer *w, aug_err *e)
 {
     if (w->open_rec)
@@ -609,3 +593,39 @@ int aug_writer_close(aug_writer *w, aug_err *e)
 }
 
 void aug_writer_free(aug_writer *w) { free(w); }
+
+int aug_check_payload(const aug_rec *rec, aug_err *e)
+{
+    aug_err_clear(e);
+    const aug_rectype *t = aug_rectype_find(rec->type);
+    return t && t->codec->check ? t->codec->check(rec, e) : 0;
+}
+
+int aug_dump_rec(FILE *out, struct aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    aug_err_clear(e);
+    const aug_rectype *t = aug_rectype_find(rec->type);
+    if (t && t->codec->dump) return t->codec->dump(out, m, rec, e);
+    aug_txt_header(out, rec);
+    aug_txt_hex(out, rec);
+    return 0;
+}
+
+int aug_rec_copy(aug_rec *dst, const aug_rec *src, aug_err *e)
+{
+    *dst = *src;
+    dst->zbuf = aug_malloc((size_t)src->len + 1);
+    dst->wire = aug_malloc((size_t)src->wirelen + 1);
+    if (!dst->zbuf || !dst->wire) {
+        free(dst->zbuf);
+        free(dst->wire);
+        memset(dst, 0, sizeof *dst);
+        return aug_err_set(e, AUG_ENOMEM, src->index, src->type, "out of memory");
+    }
+    memcpy(dst->zbuf, src->data, (size_t)src->len);
+    memcpy(dst->wire, src->wire, (size_t)src->wirelen);
+    dst->data = dst->zbuf;
+    dst->cap_data = (size_t)src->len + 1;
+    dst->cap_wire = (size_t)src->wirelen + 1;
+    return 0;
+}

@@ -51,6 +51,22 @@ static void test_table_matches_spec(void)
                 (unsigned long long)t->minlen, mn);
         T_CHECK(t->maxlen == parse_len(mx), "%s: max %llu in code, %s in spec", type,
                 (unsigned long long)t->maxlen, mx);
+        /* the codec column: the last cell, `lib/LAYER/FILE.c`, names the file of the
+           codec bound in the table, and that file exists */
+        char *tick = strrchr(line, '`'), *open = NULL;
+        if (tick) {
+            *tick = 0;
+            open = strrchr(line, '`');
+        }
+        T_CHECK(open != NULL, "%s: no codec column in spec", type);
+        if (!open) continue;
+        T_CHECK(t->codec && !strcmp(t->codec->file, open + 1), "%s: codec %s in code, %s in spec",
+                type, t->codec ? t->codec->file : "(none)", open + 1);
+        char fp[4200];
+        snprintf(fp, sizeof fp, "%.4000s/%s", root ? root : ".", open + 1);
+        FILE *cf = fopen(fp, "r");
+        T_CHECK(cf != NULL, "%s: codec file %s missing", type, open + 1);
+        if (cf) fclose(cf);
     }
     fclose(f);
     int n = 0;

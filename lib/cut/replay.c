@@ -1,0 +1,220 @@
+/* The scene a stream describes, replayed record by record: the mesh records,
+   the DOF numbering of the original mesh (checked against DOFM), every MDLT and
+   BDLT applied in turn, and the output set (formats/stream.md 5, 6.1, 7.1, 7.7). */
+#include <stdlib.h>
+#include <string.h>
+#include "aug_cut.h"
+
+void aug_replay_init(aug_replay *r)
+{
+    memset(r, 0, sizeof *r);
+    aug_mesh_init(&r->mesh);
+    r->step_limit = INT32_MAX;
+}
+
+void aug_replay_free(aug_replay *r)
+{
+    aug_mesh_free(&r->mesh);
+    free(r->map0);
+    free(r->out_dof);
+    memset(r, 0, sizeof *r);
+}
+
+static int has_mesh(const aug_mesh *m) { return (m->have & AUG_HAVE_NODE) != 0; }
+
+/* --output: all, surface or a node set of the original mesh, replacing oUTs;
+   new nodes then inherit set membership from their parents */
+static int resolve_output(aug_replay *r, aug_err *e)
+{
+    aug_mesh *m = &r->mesh;
+    const char *want = r->output;
+    if (!want || !has_mesh(m)) return 0;
+    if (!strcmp(want, "all")) {
+        m->out_kind = AUG_OUT_ALL;
+        m->nout = 0;
+        return 0;
+    }
+    int32_t *nodes = aug_malloc((size_t)m->nn * sizeof *nodes + 4);
+    int64_t n = 0;
+    if (!nodes) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    if (!strcmp(want, "surface")) {
+        unsigned char *mark = aug_malloc((size_t)m->nn + 1);
+        if (!mark || aug_mesh_boundary_nodes(m, mark) < 0) {
+            free(mark);
+            free(nodes);
+            return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+        }
+        for (int64_t i = 0; i < m->nn; i++)
+            if (mark[i]) nodes[n++] = (int32_t)i;
+        free(mark);
+        m->out_kind = AUG_OUT_SURFACE;
+    } else {
+        const aug_set *s = aug_mesh_set(m, want);
+        if (!s) {
+            free(nodes);
+            return aug_err_set(e, AUG_EDATA, -1, "", "--output %s: no such node set in the stream", want);
+        }
+        memcpy(nodes, s->nodes, (size_t)s->n * sizeof *nodes);
+        n = s->n;
+        m->out_kind = AUG_OUT_SET;
+        snprintf(m->out_name, sizeof m->out_name, "%s", want);
+    }
+    free(m->out_nodes);
+    m->out_nodes = nodes;
+    m->nout = n;
+    return 0;
+}
+
+int aug_replay_start(aug_replay *r, aug_err *e)
+{
+    aug_err_clear(e);
+    if (r->started) return 0;
+    aug_mesh *m = &r->mesh;
+    if (has_mesh(m)) {
+        if (aug_mesh_validate(m, e)) return e->code;
+        r->nn0 = m->nn;
+        r->dim = m->dim;
+        r->map0 = aug_malloc((size_t)(m->nn * m->dim) * sizeof *r->map0 + 1);
+        if (!r->map0) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+        r->nfree0 = aug_dofmap(m, r->map0);
+    }
+    r->started = 1;
+    return resolve_output(r, e);
+}
+
+/* DOFM: the numbering of the mesh's constraints, or, without a mesh, the numbering */
+static int add_dofm(aug_replay *r, const aug_rec *rec, aug_err *e)
+{
+    int dim;
+    int64_t ndof, nfree;
+    int32_t *map;
+    if (aug_read_dofmap(rec, &dim, &ndof, &nfree, &map, e)) return e->code;
+    if (!has_mesh(&r->mesh)) {
+        free(r->map0);
+        r->map0 = map;
+        r->dim = dim;
+        r->nfree0 = nfree;
+        r->have_dofm = 1;
+        return 0;
+    }
+    int same = dim == r->dim && ndof == r->nn0 * r->dim && nfree == r->nfree0 &&
+               !memcmp(map, r->map0, (size_t)ndof * sizeof *map);
+    free(map);
+    if (!same)
+        return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
+                           "DOF numbering does not match the mesh's constraints");
+    r->have_dofm = 1;
+    return 0;
+}
+
+static int add_mdlt(aug_replay *r, const aug_rec *rec, aug_err *e)
+{
+    aug_mesh *m = &r->mesh;
+    if ((m->have & (AUG_HAVE_NODE | AUG_HAVE_ELEM)) != (AUG_HAVE_NODE | AUG_HAVE_ELEM))
+        return aug_err_set(e, AUG_EORDER, rec->index, rec->type, "mesh delta before NODE and ELEM");
+    aug_mdelta d;
+    int rc = aug_read_mdelta(rec, m->dim, m->nv, &d, e);
+    if (!rc) {
+        r->nmdlt++;
+        r->mdlt_step = d.step, r->mdlt_flags = d.flags;
+        r->mdlt_nnew = d.nnew, r->mdlt_nmod = d.nmod, r->mdlt_nadd = d.nadd;
+        if (rec->step <= r->step_limit) {
+            rc = aug_mesh_apply(m, &d, e);
+            if (rc) e->record = rec->index, memcpy(e->type, "MDLT", 5);
+            else r->applied++;
+        }
+    }
+    aug_mdelta_free(&d);
+    return rc;
+}
+
+static int add_bdlt(aug_replay *r, const aug_rec *rec, aug_err *e)
+{
+    aug_bdelta b;
+    int rc = aug_read_bdelta(rec, &b, e);
+    if (!rc && rec->step <= r->step_limit && has_mesh(&r->mesh)) {
+        rc = aug_mesh_apply_bc(&r->mesh, &b, e);
+        if (rc) e->record = rec->index, memcpy(e->type, "BDLT", 5);
+    }
+    aug_bdelta_free(&b);
+    return rc;
+}
+
+int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
+{
+    aug_err_clear(e);
+    if (aug_mesh_is_record(rec->type)) return aug_mesh_absorb(&r->mesh, rec, e);
+    const aug_rectype *rt = aug_rectype_find(rec->type);
+    if (rt && rt->phase >= 2 && rt->phase <= 3 && aug_replay_start(r, e)) {
+        if (e->record < 0) e->record = rec->index, memcpy(e->type, rec->type, 5);
+        return e->code;
+    }
+    if (rt && rt->perstep && rec->step > r->last_step) r->last_step = rec->step;
+    if (!memcmp(rec->type, "DOFM", 4)) return add_dofm(r, rec, e);
+    if (!memcmp(rec->type, "MDLT", 4)) return add_mdlt(r, rec, e);
+    if (!memcmp(rec->type, "BDLT", 4)) return add_bdlt(r, rec, e);
+    return 0;
+}
+
+int64_t aug_replay_index(const aug_replay *r, int64_t node, int c)
+{
+    if (node < r->nn0) return r->map0[node * r->dim + c];
+    return r->nfree0 + (node - r->nn0) * r->dim + c;
+}
+
+int aug_replay_all(const aug_replay *r)
+{
+    return r->mesh.out_kind == AUG_OUT_ALL || !has_mesh(&r->mesh);
+}
+
+int aug_replay_out_dofs(aug_replay *r, const int32_t **dofs, int64_t *n, aug_err *e)
+{
+    aug_err_clear(e);
+    *dofs = NULL;
+    *n = 0;
+    if (aug_replay_all(r)) return 0;
+    const aug_mesh *m = &r->mesh;
+    free(r->out_dof);
+    r->out_dof = aug_malloc((size_t)(m->nout * r->dim + 1) * sizeof *r->out_dof);
+    if (!r->out_dof) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    int64_t k = 0;
+    for (int64_t i = 0; i < m->nout; i++)
+        for (int c = 0; c < r->dim; c++) {
+            int64_t id = aug_replay_index(r, m->out_nodes[i], c);
+            if (id >= 0) r->out_dof[k++] = (int32_t)id;
+        }
+    qsort(r->out_dof, (size_t)k, sizeof *r->out_dof, aug_cmp_i32);
+    *dofs = r->out_dof;
+    *n = k;
+    return 0;
+}
+
+/* u(node, c) = x[index(node, c)], or the prescribed value of an original
+   constrained DOF; over every node, or the output set's nodes (indexed) */
+int aug_replay_write_field(aug_writer *w, const aug_replay *r, int32_t step, const double *x,
+                           aug_err *e)
+{
+    aug_err_clear(e);
+    const aug_mesh *m = &r->mesh;
+    int all = aug_replay_all(r), dim = r->dim;
+    int64_t cnt = all ? m->nn : m->nout;
+    double *u = aug_malloc((size_t)(cnt * dim + 1) * sizeof *u);
+    if (!u) return aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "fELD", "out of memory");
+    for (int64_t i = 0; i < cnt; i++) {
+        int64_t node = all ? i : m->out_nodes[i];
+        for (int c = 0; c < dim; c++) {
+            int64_t id = aug_replay_index(r, node, c);
+            double v = 0;
+            if (id < 0) {
+                int64_t k = aug_find_i32(m->fix_dof, m->nfix, (int32_t)(node * dim + c));
+                if (k >= 0) v = m->fix_val[k];
+            }
+            u[i * dim + c] = id >= 0 ? x[id] : v;
+        }
+    }
+    static const int32_t none[1] = {0};
+    const int32_t *nodes = all ? NULL : m->out_nodes ? m->out_nodes : none;
+    int rc = aug_write_field(w, step, 0, dim, cnt, nodes, u, e);
+    free(u);
+    return rc;
+}

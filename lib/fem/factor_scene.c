@@ -1,0 +1,111 @@
+/* factor's job on the intact scene: assemble K (and M) over the free DOFs, order
+   and factor K = L D L' with CHOLMOD, solve K a = f, estimate cond(K), and
+   write DOFM, KMAT, FVEC, FACT, cOND, the step-0 fELD, sTAt and tIMe. */
+#include <stdlib.h>
+#include <string.h>
+#include "aug_fem.h"
+
+void aug_factored_free(aug_factored *r, cholmod_common *cm)
+{
+    cholmod_free_sparse(&r->K, cm);
+    cholmod_free_sparse(&r->M, cm);
+    cholmod_free_sparse(&r->ML, cm);
+    cholmod_free_factor(&r->L, cm);
+    free(r->map);
+    free(r->f);
+    free(r->a);
+    memset(r, 0, sizeof *r);
+}
+
+/* K a = f of the intact mesh, timed per phase (paper 001 sec. 4: the base factor) */
+int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_opts *o,
+                         cholmod_common *cm, aug_err *e)
+{
+    aug_err_clear(e);
+    memset(r, 0, sizeof *r);
+    if (aug_mesh_validate(m, e) || aug_check_support(m, e)) return e->code;
+    r->map = aug_malloc((size_t)(m->nn * m->dim) * sizeof *r->map + 1);
+    if (!r->map) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    r->nfree = aug_dofmap(m, r->map);
+    if (r->nfree == 0) return aug_err_set(e, AUG_EDATA, -1, "", "every DOF is constrained: nothing to solve");
+    double t0 = aug_now();
+    if (!(r->K = aug_assemble(m, r->map, r->nfree, AUG_MAT_K, cm, e))) return e->code;
+    r->f = aug_malloc((size_t)r->nfree * sizeof *r->f);
+    r->a = aug_malloc((size_t)r->nfree * sizeof *r->a);
+    if (!r->f || !r->a) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    if (aug_load_vector(m, r->map, r->nfree, r->f, e)) return e->code;
+    r->t_asm = aug_now() - t0;
+    if (o->mass && !(r->M = aug_assemble(m, r->map, r->nfree, AUG_MAT_M, cm, e))) return e->code;
+    if (o->lumped && !(r->ML = aug_assemble(m, r->map, r->nfree, AUG_MAT_ML, cm, e))) return e->code;
+    aug_factor_options(cm, o->ordering, o->simplicial);
+    t0 = aug_now();
+    if (!(r->L = aug_analyze(r->K, cm, e))) return e->code;
+    r->t_an = aug_now() - t0;
+    r->lnz = cm->lnz;
+    r->fl = cm->fl;
+    t0 = aug_now();
+    if (aug_factorize(r->K, r->L, m, r->map, cm, e)) return e->code;
+    r->t_fac = aug_now() - t0;
+    t0 = aug_now();
+    if (aug_solve(r->K, r->L, r->f, r->a, &r->relres, cm, e)) return e->code;
+    r->t_sol = aug_now() - t0;
+    if (!o->no_cond) {
+        t0 = aug_now();
+        if (aug_cond_estimate(r->K, r->L, o->cond_tol, &r->cond, cm, e)) return e->code;
+        r->t_cond = aug_now() - t0;
+    }
+    return 0;
+}
+
+int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
+                       const aug_factor_opts *o, cholmod_common *cm, aug_err *e)
+{
+    aug_err_clear(e);
+    double t0 = aug_now();
+    if (aug_write_dofmap(w, m, r->map, r->nfree, e) || aug_write_sparse(w, AUG_MAT_K, r->K, e) ||
+        (r->M && aug_write_sparse(w, AUG_MAT_M, r->M, e)) ||
+        (r->ML && aug_write_sparse(w, AUG_MAT_ML, r->ML, e)) ||
+        aug_write_vector(w, "FVEC", AUG_NOSTEP, 0, r->f, r->nfree, e) ||
+        (!o->no_factor && aug_write_factor(w, r->L, cm, e)))
+        return e->code;
+    aug_kv k;
+    if (!o->no_cond) {
+        aug_kv_init(&k, "arpack-lanczos");
+        aug_kv_set(&k, "lambda_max", r->cond.lambda_max);
+        aug_kv_set(&k, "lambda_min", r->cond.lambda_min);
+        aug_kv_set(&k, "cond", r->cond.cond);
+        aug_kv_set(&k, "iters", r->cond.iters_max + r->cond.iters_min);
+        aug_kv_set(&k, "iters_max", r->cond.iters_max);
+        aug_kv_set(&k, "iters_min", r->cond.iters_min);
+        aug_kv_set(&k, "tol", o->cond_tol);
+        aug_kv_set(&k, "converged", r->cond.converged);
+        if (aug_write_kv(w, "cOND", AUG_NOSTEP, &k, e)) return e->code;
+    }
+    double *u = aug_malloc((size_t)(m->nn * m->dim) * sizeof *u + 1);
+    if (!u) return aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "fELD", "out of memory");
+    aug_expand_field(m, r->map, r->a, u);
+    int rc = aug_write_field(w, 0, 0, m->dim, m->nn, NULL, u, e);
+    free(u);
+    if (rc) return rc;
+    aug_kv_init(&k, "factor");
+    aug_kv_set(&k, "n", (double)r->nfree);
+    aug_kv_set(&k, "nnz_K", (double)cholmod_nnz(r->K, cm));
+    aug_kv_set(&k, "nnz_L", r->lnz);
+    aug_kv_set(&k, "flops", r->fl);
+    aug_kv_set(&k, "ordering", r->L->ordering);
+    aug_kv_set(&k, "is_super", r->L->is_super);
+    aug_kv_set(&k, "relres", r->relres);
+    aug_kv_set(&k, "m", 0);
+    aug_kv_set(&k, "k", 0);
+    if (aug_write_kv(w, "sTAt", 0, &k, e)) return e->code;
+    double t_write = aug_now() - t0;
+    aug_kv_init(&k, "factor");
+    aug_kv_set(&k, "assemble_ms", 1e3 * r->t_asm);
+    aug_kv_set(&k, "analyze_ms", 1e3 * r->t_an);
+    aug_kv_set(&k, "factor_ms", 1e3 * r->t_fac);
+    aug_kv_set(&k, "solve_ms", 1e3 * r->t_sol);
+    aug_kv_set(&k, "cond_ms", 1e3 * r->t_cond);
+    aug_kv_set(&k, "write_ms", 1e3 * t_write);
+    aug_kv_set(&k, "threads", o->threads);
+    return aug_write_kv(w, "tIMe", 0, &k, e);
+}
