@@ -4,6 +4,7 @@
 #include <string.h>
 #include "aug_cut.h"
 
+/* order of K_t: nfree0 + dim (nn - nn0) (formats/stream.md 7.2) */
 int64_t aug_cut_order(const aug_mesh *m, int64_t nn0, int64_t nfree0)
 {
     return nfree0 + (m->nn - nn0) * m->dim;
@@ -40,7 +41,8 @@ static int cmp_trip(const void *a, const void *b)
 }
 
 /* K_t = sum_e scatter(K_e) over free matrix indices + I on constrained matrix
-   indices; upper triangle, duplicates summed in element order (deterministic). */
+   indices (their columns replaced by identity columns, as J in paper 000 eq. 5);
+   upper triangle, duplicates summed in element order (deterministic). */
 cholmod_sparse *aug_assemble_cut(const aug_mesh *m, int64_t nn0, const int32_t *map0,
                                  int64_t nfree0, cholmod_common *cm, aug_err *e)
 {
@@ -108,7 +110,8 @@ nomem:
     return NULL;
 }
 
-/* f_t[i] = load_i - sum_j K_ij v_j (i free, j constrained), f_t[i] = v_i (i constrained). */
+/* f_t[i] = load_i - sum_j K_ij v_j (i free, j constrained: paper 000 eq. 11, paper
+   001 eq. 3.29), f_t[i] = v_i (i constrained: an identity row). */
 int aug_load_cut(const aug_mesh *m, int64_t nn0, const int32_t *map0, int64_t nfree0,
                  double *f, aug_err *e)
 {

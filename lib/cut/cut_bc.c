@@ -6,6 +6,8 @@
 #include <string.h>
 #include "aug_cut.h"
 
+/* BDLT += u_c = v_c (0 when v is NULL) for each component of node whose
+   constraint is new or changes value */
 static int fix_node(const aug_mesh *m, int32_t node, const double *v, aug_bdelta *b)
 {
     for (int c = 0; c < m->dim; c++) {
@@ -16,6 +18,8 @@ static int fix_node(const aug_mesh *m, int32_t node, const double *v, aug_bdelta
     return 0;
 }
 
+/* new Dirichlet constraints u = v on the nodes of set (paper 000 eq. 3; the
+   matrix takes them as identity rows, formats/stream.md 7.2) */
 int aug_cut_constrain_set(const aug_mesh *m, const char *set, const double *v, aug_bdelta *b,
                           aug_err *e)
 {
@@ -28,6 +32,8 @@ int aug_cut_constrain_set(const aug_mesh *m, const char *set, const double *v, a
     return 0;
 }
 
+/* new Dirichlet constraints u = v on the nodes with lo <= x <= hi (as
+   aug_cut_constrain_set); AUG_EDATA when the box holds no node */
 int aug_cut_constrain_box(const aug_mesh *m, const double *lo, const double *hi,
                           const double *v, aug_bdelta *b, aug_err *e)
 {
@@ -70,6 +76,10 @@ static double current(const aug_mesh *m, const aug_bdelta *b, int32_t dof)
     return aug_mesh_load(m, dof);
 }
 
+/* Opposing pull forces (paper 001 sec. 4.3.2): for every copy q made by d (at its
+   parent p's place), force F along u = centroid(star q) - centroid(star p) (or
+   +-dir, the sign of u.dir) added to q's total load and subtracted from p's; nodes
+   a split inserted get none */
 int aug_cut_pull(const aug_mesh *m, const aug_adj *adj, const aug_mdelta *d, double F,
                  const double *dir, aug_bdelta *b, aug_err *e)
 {

@@ -212,7 +212,8 @@ typedef struct hit {
 } hit;
 
 /* where the curve, after t and up to t1, first meets edge (a, b) away from
-   node n: parameter and edge parameter; 0 if it does not */
+   node n (thesis 003 eq. 3.3, by aug_curve_line_roots): parameter and edge
+   parameter; 0 if it does not */
 static int edge_hit(const walk *w, int32_t a, int32_t b, double t, double t1, int32_t n, int strict,
                     hit *h)
 {

@@ -29,7 +29,8 @@ static double seg_dist(const double *a, const double *b, const double *p)
     return hypot(a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
 }
 
-/* even-odd rule; points within tol of an edge count as inside */
+/* p inside the polygon q by the even-odd (crossing-number) rule; points within
+   tol of an edge count as inside */
 static int inside(const double *q, int nq, const double *p, double tol)
 {
     int in = 0;
@@ -43,6 +44,8 @@ static int inside(const double *q, int nq, const double *p, double tol)
     return in;
 }
 
+/* keep the planned cut nodes whose projection onto the plane (orthonormal basis
+   u, v) lies inside the projected polygon, within 1e-9 of its size */
 int aug_plane_restrict(aug_plane_cut *pc, const aug_mesh *m, const double *poly, int npoly,
                        aug_err *e)
 {

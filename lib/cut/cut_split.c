@@ -14,6 +14,10 @@ static int nfixed(const aug_edit *ed, int32_t q)
     return n;
 }
 
+/* new node r = (1-s) a + s b splits edge ab: each triangle (a, b, c) on it becomes
+   (a, r, c) and (r, b, c), conforming (thesis 003 sec. 3.1.2); r's parent is the
+   end with fewer constrained components (the nearer on ties); a cut edge ab
+   becomes ar and rb */
 int32_t aug_split_edge(aug_edit *ed, aug_edgeset *cut, int32_t a, int32_t b, double s,
                        aug_err *e)
 {
@@ -56,6 +60,10 @@ nomem:
     return -1;
 }
 
+/* new node r = sum_k l_k c_k (barycentric l) splits t into (c0, c1, r),
+   (c1, c2, r), (c2, c0, r): a cut ending inside a triangle (thesis 003 sec. 3.1.2,
+   fig. 3.4); r's parent is the corner with fewest constrained components, then
+   the largest l_k */
 int32_t aug_split_tri(aug_edit *ed, int64_t t, const double l[3], aug_err *e)
 {
     aug_err_clear(e);

@@ -129,6 +129,8 @@ int64_t aug_edit_elem(aug_edit *ed, const int32_t *conn, int32_t mat)
     return elem;
 }
 
+/* signed area (tri3) or volume (tet4) of elem in the edited mesh, as
+   aug_elem_measure */
 double aug_edit_measure(const aug_edit *ed, int64_t elem)
 {
     const int32_t *c = aug_edit_conn(ed, elem);

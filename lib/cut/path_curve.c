@@ -5,7 +5,8 @@
 #include <gsl/gsl_poly.h>
 #include "aug_cut.h"
 
-/* B(t) for the three kinds */
+/* B(t): line (1-t) P0 + t P1; cubic Bezier (thesis 003 eq. 3.1); rational
+   quadratic Bezier with weights 1, w, 1 (eq. 3.7) */
 void aug_curve_eval(const aug_curve *c, double t, double xy[2])
 {
     double s = 1 - t;
@@ -22,7 +23,7 @@ void aug_curve_eval(const aug_curve *c, double t, double xy[2])
     }
 }
 
-/* B'(t) */
+/* B'(t) of the three kinds (the quotient rule for the rational arc) */
 void aug_curve_deriv(const aug_curve *c, double t, double dxy[2])
 {
     double s = 1 - t;
@@ -89,6 +90,11 @@ static int roots(const double *c, double t0, double t1, double *out)
     return k;
 }
 
+/* the t in [t0, t1] where B(t) meets the line through a and b (thesis 003 eq. 3.3):
+   roots of n.(B(t) - a), n normal to ab, a polynomial of degree <= 3 from the
+   Bernstein coefficients n.(P_i - a) (the rational arc's numerator, weights
+   applied); ascending, at most 3; -1 when that polynomial is constant (the curve
+   on the line or parallel to it) */
 int aug_curve_line_roots(const aug_curve *c, const double a[2], const double b[2], double t0,
                          double t1, double t[3])
 {
@@ -122,6 +128,8 @@ int aug_curve_line_roots(const aug_curve *c, const double a[2], const double b[2
     return roots(cf, t0, t1, t);
 }
 
+/* arc length of B over [0, 1] by the chord polygon at AUG_PATH_NS + 1 equal
+   parameter steps */
 double aug_curve_length(const aug_curve *c)
 {
     double L = 0, p[2], q[2];

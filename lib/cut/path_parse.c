@@ -182,6 +182,8 @@ fail:
     return e->code;
 }
 
+/* t(s) on curve i: the inverse of its arc-length table (AUG_PATH_NS + 1 chord
+   sums), linear between entries; 0 below, 1 beyond its length */
 double aug_path_param(const aug_path *p, int i, double s)
 {
     const double *tb = p->tab + (size_t)i * (AUG_PATH_NS + 1);

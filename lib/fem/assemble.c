@@ -85,6 +85,7 @@ fail:
     return -1;
 }
 
+/* first position t in ind[lo..hi) (sorted) with ind[t] >= k */
 static int64_t find_node(const int32_t *ind, int64_t lo, int64_t hi, int32_t k)
 {
     while (lo < hi) {
@@ -95,7 +96,8 @@ static int64_t find_node(const int32_t *ind, int64_t lo, int64_t hi, int32_t k)
     return lo;
 }
 
-/* Lumped mass: diagonal, M(f,f) = sum over elements of the row sums (elem_mass.c). */
+/* Lumped mass: diagonal, M(f,f) = sum over the elements at f of rho w / nv (the
+   row sums of elem_mass.c), over the free DOFs f. */
 static cholmod_sparse *assemble_lumped(const aug_mesh *m, const int32_t *map, int64_t nfree,
                                        cholmod_common *cm, aug_err *e)
 {
@@ -121,10 +123,11 @@ static cholmod_sparse *assemble_lumped(const aug_mesh *m, const int32_t *map, in
     return A;
 }
 
-/* K (or M) = sum_e P_e' Ke P_e restricted to the free DOFs, upper triangle.
-   Column (node j, comp c) holds the free DOFs of the adjacent nodes k < j, then
-   those of j with comp <= c: row (k, i) sits at colptr + off[k] + lidx(k, i),
-   where off[k] counts the free DOFs of the adjacent nodes before k. */
+/* K (or M) = sum_e P_e' Ke P_e restricted to the free DOFs, upper triangle
+   ([Zienkiewicz]; paper 000 sec. 3.1). Column (node j, comp c) holds the free DOFs
+   of the adjacent nodes k < j, then those of j with comp <= c: row (k, i) sits at
+   colptr + off[k] + lidx(k, i), where off[k] counts the free DOFs of the adjacent
+   nodes before k. Sums in element order (deterministic). */
 cholmod_sparse *aug_assemble(const aug_mesh *m, const int32_t *map, int64_t nfree,
                              int which, cholmod_common *cm, aug_err *e)
 {

@@ -1,5 +1,6 @@
-/* Condition estimate of K: the extreme eigenvalues by implicitly restarted
-   Lanczos (ARPACK) on K and, through the factor, on K^-1. */
+/* Condition estimate of K (cond = lambda_max / lambda_min, thesis 003 sec. 3.2.1):
+   the extreme eigenvalues by implicitly restarted Lanczos ([ARPACK]) on K and,
+   through the factor, on K^-1. */
 #include <arpack/arpack.h>
 #include <lapacke.h>
 #include <math.h>
@@ -44,9 +45,9 @@ static void op_Kinv(op_ctx *c, double *x, double *y)
 }
 
 /* Largest eigenvalue theta of the symmetric operator op (ARPACK dsaupd, mode 1,
-   which = "LA", nev = 1) to ARPACK's relative Ritz residual tol. Returns 1 when
-   converged, 0 when not within maxit restarts, -1 on failure; nops = operator
-   applications. */
+   which = "LA", nev = 1, ncv <= 24, [ARPACK]) to ARPACK's relative Ritz residual
+   tol, from a fixed start vector. Returns 1 when converged, 0 when not within
+   maxit restarts, -1 on failure; nops = operator applications. */
 static int largest(int n, void (*op)(op_ctx *, double *, double *), op_ctx *c, double tol,
                    int maxit, double *theta, int *nops)
 {
@@ -90,10 +91,10 @@ done:
     return rc;
 }
 
-/* cond_2(K) = lambda_max / lambda_min. lambda_max: Lanczos on K to relative
-   Ritz residual tol (a Ritz value theta of a symmetric matrix lies within its
-   residual norm of an eigenvalue and never above lambda_max, so lambda_max is
-   in [theta, theta (1 + tol)]);
+/* cond_2(K) = lambda_max / lambda_min (thesis 003 sec. 3.2.1). lambda_max: Lanczos
+   on K to relative Ritz residual tol (a Ritz value theta of a symmetric matrix lies
+   within its residual norm of an eigenvalue and never above lambda_max, [Parlett],
+   so lambda_max is in [theta, theta (1 + tol)]);
    lambda_min = 1/theta, theta the largest eigenvalue of K^-1, by Lanczos with
    solves through the factor L, to the same tol. n <= 64: dense LAPACK dsyev.
    Unconverged iterations give NAN and converged = 0, never a number. */

@@ -1,11 +1,12 @@
-/* Element mass matrices of tet4 and tri3: consistent and row-sum lumped. */
+/* Element mass matrices of tet4 and tri3: consistent and row-sum lumped
+   ([Zienkiewicz]). */
 #include <string.h>
 #include "aug_fem.h"
 
 /* Consistent: Me[(a,i),(b,j)] = rho delta_ij int N_a N_b, with int N_a N_b =
    V (1 + delta_ab) / 20 (tet4) and t A (1 + delta_ab) / 12 (tri3).
    Lumped (row sums of the consistent matrix): rho w / nv on the diagonal,
-   w = V (tet4) or t A (tri3). */
+   w = V (tet4) or t A (tri3) ([Zienkiewicz]); V, A signed (aug_elem_measure). */
 void aug_elem_mass(const aug_mesh *m, int64_t e, int lumped, double *Me)
 {
     const aug_material *mat = &m->mats[m->mat[e]];

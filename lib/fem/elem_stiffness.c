@@ -1,4 +1,5 @@
-/* Linear-elastic element stiffness: tet4 (3-D isotropic) and tri3 (plane stress). */
+/* Linear-elastic element stiffness: tet4 (3-D isotropic) and tri3 (plane stress)
+   ([Zienkiewicz]; thesis 003 eqs. 2.19-2.20 give its node-block form). */
 #include <string.h>
 #include "aug_fem.h"
 
@@ -52,7 +53,8 @@ static double tri_grad(const aug_mesh *m, int64_t e, double g[6])
    lambda = E nu / ((1+nu)(1-2nu)), mu = E / (2(1+nu)); written out as
    Ke[(a,i),(b,j)] = V (lambda g_a,i g_b,j + mu g_a,j g_b,i + mu delta_ij g_a.g_b).
    Ke = t A B' D B (tri3 plane stress), D = E/(1-nu^2) [1 nu 0; nu 1 0; 0 0 (1-nu)/2],
-   the same form with lambda* = E nu / (1-nu^2), mu = E / (2(1+nu)). */
+   the same form with lambda* = E nu / (1-nu^2), mu = E / (2(1+nu)) ([Zienkiewicz]).
+   V = det J / 6 and A = det / 2 are signed: an inverted element gives -Ke. */
 void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke)
 {
     const aug_material *mat = &m->mats[m->mat[e]];

@@ -20,8 +20,9 @@ const char *aug_ordering_name(int ordering)
 }
 
 /* AUG_ORDER_AUTO leaves CHOLMOD's default strategy (AMD, and METIS too when
-   AMD's fill is high; the better one is kept); AMD / METIS force one method.
-   simplicial: simplicial LDL'; otherwise supernodal LL'. */
+   AMD's fill is high; the better one is kept); AMD / METIS force one method
+   (postordered). simplicial: simplicial LDL'; otherwise supernodal LL'
+   (cm->final_ll = 0; [CHOLMOD] user guide, cholmod_common). */
 void aug_factor_options(cholmod_common *cm, int ordering, int simplicial)
 {
     cm->nmethods = 0;
@@ -34,6 +35,8 @@ void aug_factor_options(cholmod_common *cm, int ordering, int simplicial)
     cm->final_ll = 0;
 }
 
+/* symbolic factor of K with the ordering options of cm (cholmod_analyze,
+   [CHOLMOD]); NULL with e filled on failure */
 cholmod_factor *aug_analyze(cholmod_sparse *K, cholmod_common *cm, aug_err *e)
 {
     aug_err_clear(e);
@@ -79,10 +82,11 @@ static void describe_dof(const aug_mesh *m, const int32_t *map, int64_t f, char 
                  "xyz"[dof % m->dim]);
 }
 
-/* P K P' = L L' (supernodal) or L D L' (simplicial). CHOLMOD reports a non-positive
-   pivot in LL' (status CHOLMOD_NOT_POSDEF, column L->minor); a simplicial LDL' only
-   stops at a zero pivot, so D > 0 is checked here. The failing column j of P K P'
-   is the free DOF Perm[j]; m and map (both may be NULL) name its node. */
+/* P K P' = L L' (supernodal) or L D L' (simplicial) by cholmod_factorize
+   ([CHOLMOD]). CHOLMOD reports a non-positive pivot in LL' (status
+   CHOLMOD_NOT_POSDEF, column L->minor); a simplicial LDL' only stops at a zero
+   pivot, so D > 0 is checked here. The failing column j of P K P' is the free DOF
+   Perm[j]; m and map (both may be NULL) name its node. */
 int aug_factorize(cholmod_sparse *K, cholmod_factor *L, const aug_mesh *m, const int32_t *map,
                   cholmod_common *cm, aug_err *e)
 {

@@ -4,8 +4,9 @@
 #include <string.h>
 #include "aug_fem.h"
 
-/* f_F = l_F - K_FD a_D, K_FD accumulated element by element (element order):
-   f[map[r]] -= Ke(r, d) a_d for every free r and constrained d of each element. */
+/* f_F = l_F - K_FD a_D (paper 000 eq. 11, paper 001 eq. 3.29, on the free rows),
+   K_FD accumulated element by element (element order): f[map[r]] -= Ke(r, d) a_d
+   for every free r and constrained d of each element. */
 int aug_load_vector(const aug_mesh *m, const int32_t *map, int64_t nfree, double *f,
                     aug_err *e)
 {

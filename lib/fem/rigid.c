@@ -6,6 +6,7 @@
 #include <string.h>
 #include "aug_fem.h"
 
+/* root of i in the union-find forest up, with path halving */
 static int32_t find(int32_t *up, int32_t i)
 {
     while (up[i] != i) {
@@ -60,12 +61,13 @@ static void rigid_row(int dim, const double *y, int k, double *row)
     }
 }
 
-/* A component is held when no rigid motion r (dim 3: 6 modes, dim 2: 3) vanishes
-   at all its constrained DOFs, i.e. G = sum_{constrained d} r_d r_d' (nr x nr)
-   is nonsingular: its eigenvalues (LAPACK dsyev) all above 1e-9 lambda_max(G),
+/* A component is held when no rigid motion r (dim 3: 6 modes, dim 2: 3; the null
+   space of an unsupported linear-elastic K, [Zienkiewicz]) vanishes at all its
+   constrained DOFs, i.e. G = sum_{constrained d} r_d r_d' (nr x nr) is
+   nonsingular: its eigenvalues (LAPACK dsyev) all above 1e-9 lambda_max(G),
    with coordinates centred and scaled per component. The first component that
    is not held is reported (AUG_ESINGULAR) with its size, smallest node and the
-   material of its first element. */
+   material of its first element; so is a node in no element with a free DOF. */
 int aug_check_support(const aug_mesh *m, aug_err *e)
 {
     aug_err_clear(e);

@@ -13,7 +13,8 @@ static cholmod_dense view(double *x, size_t n)
     return d;
 }
 
-/* a = K^-1 f through L; relres = ||K a - f||_2 / ||f||_2 (0 when f = 0). */
+/* a = K^-1 f through L (cholmod_solve, [CHOLMOD]); relres = ||K a - f||_2 /
+   ||f||_2 (||K a - f||_2 when f = 0). */
 int aug_solve(cholmod_sparse *K, cholmod_factor *L, const double *f, double *a, double *relres,
               cholmod_common *cm, aug_err *e)
 {

@@ -1,4 +1,5 @@
-/* Element measure and quality (volume/area, aspect ratio, angles) and boundary detection. */
+/* Element measure and quality (volume/area, aspect ratio: thesis 003 eq. 3.10 and
+   [Shewchuk 2002], angles) and boundary detection. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,7 +23,8 @@ static void cross3(const double *a, const double *b, double *r)
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static double norm3(const double *a) { return sqrt(dot3(a, a)); }
 
-/* V = det[p1-p0, p2-p0, p3-p0] / 6 (tet4);  A = det[p1-p0, p2-p0] / 2 (tri3) */
+/* V = det[p1-p0, p2-p0, p3-p0] / 6 (tet4);  A = det[p1-p0, p2-p0] / 2 (tri3);
+   signed (positive for a positively oriented element) */
 double aug_elem_measure(const aug_mesh *m, int64_t e)
 {
     if (m->nv == 4) {
@@ -37,6 +39,8 @@ double aug_elem_measure(const aug_mesh *m, int64_t e)
     return 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p2[0] - p0[0]) * (p1[1] - p0[1]));
 }
 
+/* tri3: aspect = edge_ratio = l_max / l_min (thesis 003 eq. 3.10, sec. 3.2.2),
+   min_angle by the law of cosines (degrees), measure signed */
 static void tri_quality(const aug_mesh *m, int64_t e, aug_quality *q)
 {
     double L[3], emin = INFINITY, emax = 0;
@@ -58,7 +62,10 @@ static void tri_quality(const aug_mesh *m, int64_t e, aug_quality *q)
     q->min_angle = amin;
 }
 
-/* aspect = R / (3 r): circumradius over three inradii, 1 for the regular tet */
+/* tet4: aspect = R / (3 r), the radius ratio of [Shewchuk 2002] scaled to 1 for
+   the regular tet: R = |a^2 (b x c) + b^2 (c x a) + c^2 (a x b)| / (12 |V|),
+   r = 3 |V| / (sum of the face areas); min_angle = least dihedral angle (degrees),
+   edge_ratio = l_max / l_min */
 static void tet_quality(const aug_mesh *m, int64_t e, aug_quality *q)
 {
     static const int edges[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
@@ -109,6 +116,8 @@ static void tet_quality(const aug_mesh *m, int64_t e, aug_quality *q)
     q->min_angle = dmin;
 }
 
+/* measure, aspect, edge ratio and least (dihedral) angle of element e:
+   tet_quality (nv = 4) or tri_quality */
 void aug_elem_quality(const aug_mesh *m, int64_t e, aug_quality *q)
 {
     if (m->nv == 4) tet_quality(m, e, q);

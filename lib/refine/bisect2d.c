@@ -44,6 +44,9 @@ static double corner(const aug_work *w, int64_t t, int i)
     return atan2(fabs(ux * vy - uy * vx), ux * vx + uy * vy) * 180 / M_PI;
 }
 
+/* bad: l_max / l_min > max_aspect (thesis 003 eq. 3.10; the bound d <= 3 of sec.
+   3.2.2) or an angle < min_angle; with area_ratio > 0 only when also |A| >
+   area_ratio A_0 (the area ratio of thesis sec. 5.2) */
 int aug_bisect2d_bad(const aug_work *w, int64_t e, const aug_refine_opt *o)
 {
     const int32_t *v = C(w, e);
@@ -108,7 +111,9 @@ static int ipush(ivec *v, int64_t x)
 }
 
 /* flip the edge {u, v} of triangle t (which holds m) when the opposite vertex of
-   its neighbour lies strictly in t's circumcircle; recurse on the new edges */
+   its neighbour lies strictly in t's circumcircle and the quadrilateral is convex
+   ([Lawson 1977]); recurse on the new edges (depth <= 64); never a boundary, fixed
+   or material edge */
 static int legalize(aug_work *w, int64_t t, int32_t u, int32_t v, int32_t m, ivec *touched,
                     aug_bisect_stats *st, int depth)
 {
@@ -236,7 +241,9 @@ static int centroid(aug_work *w, int64_t t1, int64_t t2, int32_t a, int32_t b,
     return 0;
 }
 
-/* terminal edge of the longest-edge propagation path from t */
+/* terminal edge of the longest-edge propagation path from t ([Rivara 1997]): the
+   longest edge shared with the neighbour whose own longest edge it is, or a
+   boundary edge */
 static void lepp(const aug_work *w, int64_t t, int32_t *ea, int32_t *eb)
 {
     for (int64_t steps = 0;; steps++) {
@@ -259,6 +266,12 @@ static void lepp(const aug_work *w, int64_t t, int32_t *ea, int32_t *eb)
     }
 }
 
+/* ACDM's localised optimisation (thesis 003 sec. 3.3.2, algorithm 1) as LEPP
+   bisection ([Rivara 1997]), in place of algorithm 1's bisection of a triangle and
+   its neighbours: for each still-bad queued triangle t, the terminal edge of its
+   LEPP is bisected (or, with o->flip, the terminal quadrilateral gets its centroid,
+   Lepp-Delaunay) until t itself is split; bad triangles touched are queued. Skipped
+   (counted): hopeless corners, edges below 1e-10 of the mesh extent, the node cap. */
 int aug_bisect2d(aug_work *w, const int64_t *seeds, int64_t nseed, const aug_refine_opt *o,
                  const aug_parent_rule *pr, aug_bisect_stats *st, aug_err *e)
 {

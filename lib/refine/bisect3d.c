@@ -50,6 +50,8 @@ static double tet_aspect(const double *p0, const double *p1, const double *p2, c
     return R / (3 * r);
 }
 
+/* bad: R / (3 r) > max_aspect3 or least dihedral < min_dihedral; with area_ratio
+   > 0 only when also |V| > area_ratio V_0 */
 static int bad3(const aug_work *w, int64_t t, const aug_refine_opt *o)
 {
     aug_quality q;
@@ -110,8 +112,9 @@ static int64_t star(ctx3 *c, int32_t a, int32_t b)
     return ns;
 }
 
-/* split edge {a, b} at its midpoint with every tet around it (all of which have
-   it as their longest edge) */
+/* split edge {a, b} at its midpoint m: every tet around it becomes the child
+   keeping a and the child keeping b (conforming); m's parent is the end with the
+   lower score (the lower index on ties); children are queued one level deeper */
 static int split(ctx3 *c, int32_t a, int32_t b)
 {
     aug_work *w = c->w;
@@ -204,6 +207,11 @@ static int improve(ctx3 *c, int64_t t)
     return 1;
 }
 
+/* 3-D conformal edge bisection (no thesis counterpart; [Rivara-Levin 1992] in its
+   unguarded form made slivers worse): for each bad seed tet, and its bad children
+   up to max_level3 levels, improve() splits the first edge, longest first, whose
+   split lowers the worst R / (3 r) around it; tets no split improves are left
+   (skipped_corner); stops adding nodes at the cap (capped). */
 int aug_bisect3d(aug_work *w, const int64_t *seeds, int64_t nseed, const aug_refine_opt *o,
                  const aug_parent_rule *pr, aug_bisect_stats *st, aug_err *e)
 {

@@ -1,5 +1,6 @@
 /* Conditional (constrained) Delaunay re-triangulation of a local planar region:
-   Bowyer-Watson insertion, segment recovery, Lawson flips (thesis 003, 3.3.1). */
+   Bowyer-Watson insertion, segment recovery ([Anglada 1997]), Lawson flips
+   (thesis 003, secs. 3.2.2 and 3.3.1; [Bowyer 1981], [Watson 1981], [Lawson 1977]). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,6 +53,8 @@ int32_t aug_cdt_vertex(aug_cdt *c, double x, double y)
     return c->nv++;
 }
 
+/* (b - a) x (p - a) = twice the signed area of (a, b, p): > 0 when p is left of
+   a->b (the orient2d of [Shewchuk 1997], in plain floating point) */
 double aug_orient2d(const double *a, const double *b, const double *p)
 {
     return (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
@@ -89,6 +92,9 @@ int aug_cdt_incircle(const aug_cdt *c, const double *a, const double *b, const d
     return aug_incircle(a, b, d, p, 1e2 * c->eps);
 }
 
+/* sign of the in-circle determinant of p against (a, b, d) counter-clockwise
+   (the incircle of [Shewchuk 1997] without its exact stages): > 0 strictly
+   inside, 0 when |det| <= eps times its permanent (co-circular ties) */
 int aug_incircle(const double *a, const double *b, const double *d, const double *p, double eps)
 {
     double adx = a[0] - p[0], ady = a[1] - p[1];
@@ -199,6 +205,9 @@ static int32_t at_vertex(const aug_cdt *c, int32_t t, const double *p)
     return -1;
 }
 
+/* triangle whose closure holds p = (x, y) (least barycentric >= -1e3 eps): a
+   visibility walk from hint across the edge p is farthest outside of, else the
+   best triangle of a scan (-1 when none holds it); *at = a vertex at p or -1 */
 int32_t aug_cdt_locate(const aug_cdt *c, double x, double y, int32_t hint, int32_t *at)
 {
     double p[2] = {x, y};
@@ -300,6 +309,12 @@ static int reconnect(const aug_cdt *c, vec32 *cav, int nforced)
     return 0;
 }
 
+/* Bowyer-Watson insertion of vertex vi into triangle t0 holding it ([Bowyer 1981],
+   [Watson 1981]; thesis 003 sec. 3.3.1): the cavity grows from t0 (and the
+   triangles across an edge vi lies on) to neighbours whose circumcircle strictly
+   holds vi, never across a fixed edge, is shrunk until star-shaped from vi and
+   re-triangulated as vi's star; a fixed edge under vi becomes two fixed halves.
+   AUG_EDATA when vi is at a vertex or t0 cannot see it. */
 int aug_cdt_insert(aug_cdt *c, int32_t vi, int32_t t0)
 {
     const double *p = V(c, vi);
@@ -403,6 +418,10 @@ static int pseudo(aug_cdt *c, int32_t a, int32_t b, const int32_t *ch, int32_t k
     return aug_cdt_tri(c, a, b, ch[ci], tag) < 0 ? -1 : 0;
 }
 
+/* make a-b an edge and fix it ([Anglada 1997]): the triangles a->b crosses are
+   removed and the pseudo-polygons on its two sides re-triangulated Delaunay
+   (pseudo); a vertex on ab splits it; AUG_EDATA when ab crosses a fixed edge or
+   leaves the region */
 int aug_cdt_recover(aug_cdt *c, int32_t a, int32_t b)
 {
     if (a == b) return 0;
@@ -469,6 +488,10 @@ out:
 
 /* ---- Lawson flips ---- */
 
+/* Lawson flips ([Lawson 1977]) of non-fixed interior edges between triangles of
+   equal tag, while the opposite vertex lies strictly in the circumcircle and the
+   quadrilateral is strictly convex: the constrained Delaunay triangulation of the
+   fixed edges (thesis 003 sec. 3.2.2, "Conditional Delaunay Triangulation") */
 int aug_cdt_legalize(aug_cdt *c)
 {
     vec32 st = {0};

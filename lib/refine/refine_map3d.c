@@ -5,6 +5,9 @@
 #include <string.h>
 #include "aug_refine.h"
 
+/* 3-D: the cut's new nodes appended (parents mapped to work nodes) and its re-wired
+   and added tets written onto the work tets they coincide with (their original
+   measure carried); AUG_EDATA when the cut changes a tet refine bisected before */
 int aug_refine_map3d(aug_refiner *r, const aug_mdelta *d, const int32_t *oldc, int64_t nnc,
                      int64_t nec, aug_refine_q *q, aug_err *e)
 {

@@ -598,6 +598,10 @@ fail:
                                           g->d->step);
 }
 
+/* A 2-D cut step in the refined mesh (thesis 003 secs. 3.1.2, 3.3.1, 3.6.1):
+   find_region, build_local, insert_nodes (Bowyer-Watson), recover_cuts (cut edges
+   fixed, Lawson flips: conditional Delaunay), new_nodes, candidates,
+   final_triangles, separate_fine (node copies on both sides), write_back. */
 int aug_refine_region2d(aug_refiner *r, const aug_mdelta *d, const int32_t *oldc, int64_t nnc,
                         int64_t nec, const double *seg, int64_t nseg, aug_refine_q *q, aug_err *e)
 {

@@ -182,7 +182,9 @@ static int64_t holder(const aug_mesh *m, const int32_t *oldc, int64_t n, const d
     return best;
 }
 
-/* quality figures of the elements i in list (n) of mesh m with original measures a0 */
+/* quality figures of the elements list (n) of mesh m with original measures a0:
+   mean and max aspect (thesis 003 eq. 3.10 in 2-D, R / (3 r) in 3-D), mean area
+   ratio |A| / A_0 (thesis sec. 5.2) and least angle */
 static void qfig(const aug_mesh *m, const int32_t *list, int64_t n, const double *a0, double *mean,
                  double *max, double *ar, double *mina)
 {
@@ -199,6 +201,12 @@ static void qfig(const aug_mesh *m, const int32_t *list, int64_t n, const double
     if (n) *mean /= (double)n, *ar /= (double)n;
 }
 
+/* One cut step refined (thesis 003 ch. 3.2-3.3, ACDM): the cut's MDLT applied to
+   the cut view; its region re-triangulated (aug_refine_region2d, 2-D) or carried
+   over (aug_refine_map3d, 3-D); what is still bad among the elements the step
+   wrote bisected (aug_bisect2d / aug_bisect3d); the result folded into one MDLT
+   against the base (+ BDLT, and its UPDT, paper 001 eq. 3.1, when u != NULL);
+   quality figures of the cut's pieces and of the folded step (thesis secs. 5.2-5.3). */
 int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *bc, const double *seg,
                     int64_t nseg, aug_mdelta *out, aug_bdelta *outbc, aug_update *u,
                     aug_refine_q *q, aug_err *e)

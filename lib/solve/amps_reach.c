@@ -1,5 +1,6 @@
-/* AMPS step 1: the new columns of V = L^-1 P H, each solved only over the
-   elimination-tree path of its nonzero (paper 001 eq. 3.22-3.24, table 1 step 1). */
+/* AMPS step 1 (paper 001 table 1): the new columns V_dt = L^-1 P H_dt of
+   eq. 3.24 (V = L^-1 H of eq. 3.22, P the fill-reducing permutation), each solved
+   only over the elimination-tree path of its nonzero (its closure, paper 000 thm 3). */
 #include <stdlib.h>
 #include <string.h>
 #include "aug_solve.h"
@@ -65,7 +66,8 @@ static int grow_vals(aug_memo *M, int64_t need, int64_t n)
     return 0;
 }
 
-/* x = L \ e_p along path(p): x_p = 1, x_r -= L(r,c) x_c for c on the path */
+/* out[t] = (L^-1 e_p)(path[t]) over the etree path of p (paper 000 thms 1, 3):
+   x_p = 1, x_r -= L(r,c) x_c for c on the path; x (zero on entry) is zero again */
 static void path_solve(const aug_base *b, const int32_t *path, int64_t len, double *x, double *out)
 {
     const int *Lp = b->Lp, *Li = b->Li, *Lnz = b->Lnz;
@@ -81,7 +83,8 @@ static void path_solve(const aug_base *b, const int32_t *path, int64_t len, doub
     }
 }
 
-/* the same column by CHOLMOD: sys = L with Bset = {p}; Xset is the reach */
+/* the same column by CHOLMOD: cholmod_solve2(CHOLMOD_L) with Bset = {p} solves
+   L x = e_p on its reach Xset only ([CHOLMOD]); out[t] = x(path[t]) */
 static int cholmod_column(const aug_base *b, int32_t p, const int32_t *path, int64_t len,
                           double *out, cholmod_dense **X, cholmod_sparse **Xset,
                           cholmod_dense **Y, cholmod_dense **Ew, cholmod_common *cm)
@@ -103,6 +106,10 @@ fail:
     return -1;
 }
 
+/* V(:, new) = L^-1 P H_dt (paper 001 eqs. 3.23-3.24, table 1 step 1): a column for
+   each base DOF of S not yet in the memo, over its etree path (aug_ldl_path), by
+   path_solve, cholmod_column (use_cholmod), or 32 at a time through the supernodes
+   (aug_ldl_paths_solve_super) when the base has Ls; vt marks each path's dense tail */
 int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_common *cm,
                    aug_err *e)
 {

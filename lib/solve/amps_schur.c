@@ -1,5 +1,5 @@
-/* AMPS steps 3 and 5: the Schur complement S2 = I - Gbar Ebar of eq. 3.21 on the
-   active positions, LU-factored with LAPACK (paper 001 sec. 3.2, 3.4), and the
+/* AMPS steps 3 and 5 (paper 001 table 1): the Schur complement S2 = I - Gbar Ebar
+   of eqs. 3.8 and 3.21 on the active positions, LU-factored with LAPACK, and the
    factorization carried from step to step.
 
    A grows in activation order and Gbar_AA never changes (the memo is fixed
@@ -44,9 +44,12 @@ void aug_schur_free(aug_schur *s)
     s->want_rcond = wr;
 }
 
-/* positions whose Ebar column became nonzero join A (in activation order);
-   a position with Ebar(:,p) = 0 has S2(:,p) = e_p and decouples (sec. 3.4).
-   Only a column changed since the last factorization can have become nonzero. */
+/* positions whose Ebar column became nonzero join A (in activation order).
+   A position with Ebar(:,p) = 0 (a load-only change, or a new DOF copied from a
+   constrained one: an identity row in both Kbar and K_t) has S2(:,p) = e_p and
+   decouples; constraints arrive as identity rows (formats/stream.md 7.2), not in
+   the saddle-point form of sec. 3.4 (eqs. 3.28-3.32). Only a column changed since
+   the last factorization can have become nonzero. */
 static int activate(aug_schur *s, const aug_memo *M, const aug_cum *c)
 {
     if (s->pcap < c->cap) {
@@ -113,6 +116,8 @@ static int grow(aug_schur *s, int64_t need, int64_t n0)
     return 0;
 }
 
+/* Gbar(A[r], A[q]) = blkdiag(H'K^-1H, I_k) (paper 001 eq. 3.7: Kbar^-1 =
+   blkdiag(K^-1, I)); 0 between a base and a new DOF */
 static double gbar(const aug_schur *s, const aug_memo *M, int64_t r, int64_t q)
 {
     int32_t a = s->gi[r], b = s->gi[q];
@@ -163,6 +168,7 @@ nomem:
     return -1;
 }
 
+/* P S2 = L U from scratch (LAPACK dgetrf, partial pivoting) into S2; k0 = 0 */
 static int full_lu(aug_schur *s, int64_t n1)
 {
     int64_t ld = s->scap;
@@ -172,7 +178,10 @@ static int full_lu(aug_schur *s, int64_t n1)
                           s->ipiv);
 }
 
-/* the factorization of order n0 extended to n1 and re-eliminated from column k0 */
+/* the factorization of order n0 extended to n1 and re-eliminated from column k0
+   (right-looking block LU, [GVL] ch. 3): new rows L21 = S2(n0:n1, 0:k0) U11^-1,
+   U12 = L11^-1 P S2(0:k0, k0:n1), trailing S2_22 - L21 U12 by dgetrf, its pivots
+   applied to L21. -2 when a new multiplier exceeds GROWTH_MAX (caller: full_lu). */
 static int update_lu(aug_schur *s, int64_t n0, int64_t n1, int64_t k0)
 {
     int64_t ld = s->scap, nt = n1 - k0, nn = n1 - n0;
@@ -210,6 +219,10 @@ static int update_lu(aug_schur *s, int64_t n0, int64_t n1, int64_t k0)
     return info > 0 ? (int)(info + k0) : 0;
 }
 
+/* S2 = I - Gbar_AA Ebar_AA (paper 001 eq. 3.21 on A, table 1 step 3) brought up to
+   date with c: the changed columns and the new rows formed, the LU updated from
+   the first changed column (update_lu, else full_lu). singular: LU breakdown,
+   rcond (dgecon, 1-norm) < rcond_min when estimated, or det S2 < 0. */
 int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double rcond_min,
                      aug_err *e)
 {
@@ -302,7 +315,7 @@ nomem:
     return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (S2 %lld)", (long long)n1);
 }
 
-/* x := S2^-1 x with the LU factors */
+/* x := S2^-1 x with the LU factors (dgetrs; paper 001 eq. 3.8, table 1 step 5) */
 void aug_schur_solve(const aug_schur *s, double *x)
 {
     int64_t na = s->na;

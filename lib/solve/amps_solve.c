@@ -1,6 +1,6 @@
-/* AMPS steps 4 and 6: the right-hand side of eq. 3.21 (with loads changed on H)
-   and the solution by eq. 3.20, back-substituting only over the closure of the
-   requested DOFs (paper 001 sec. 3.1-3.2). */
+/* AMPS steps 4 and 6 (paper 001 table 1): the right-hand side of eqs. 3.10 and
+   3.21 (with loads changed on H) and the solution by eq. 3.20 (sec. 3.1),
+   back-substituting only over the closure of the requested DOFs (paper 000 thm 2). */
 #include <stdlib.h>
 #include <string.h>
 #include "aug_solve.h"
@@ -60,8 +60,8 @@ static int scratch(aug_amps *a, const aug_base *b, const aug_cum *c)
     return 0;
 }
 
-/* wp = Ebar x over all positions: nonzero on A only (Ebar(p, b) != 0 makes p
-   active), so S2's column lists of Ebar_AA suffice */
+/* wp = Ebar x over all positions (the Ebar a2 of eq. 3.20): nonzero on A only
+   (Ebar(p, b) != 0 makes p active), so S2's column lists of Ebar_AA suffice */
 static void ebar_times(const aug_amps *a, const aug_cum *c, const double *x, double *wp)
 {
     const aug_schur *s = &a->schur;
@@ -73,8 +73,9 @@ static void ebar_times(const aug_amps *a, const aug_cum *c, const double *x, dou
     }
 }
 
-/* y (permuted, n_b) = D^-1 sum_c V(:,c) w(col c); the consecutive tail of a
-   column (the top of the tree) as a dense axpy */
+/* y (permuted, n_b) = D^-1 sum_c V(:,c) w(col c) = D^-1 L^-1 P H w_H (eq. 3.20's
+   Kbar^-1 Hbar before L^-T); the consecutive tail of a column (the top of the
+   tree) as a dense axpy */
 static void v_times(const aug_amps *a, const aug_base *b, const double *wp, double *y)
 {
     const aug_memo *M = &a->memo;
@@ -94,6 +95,11 @@ static void v_times(const aug_amps *a, const aug_base *b, const double *wp, doub
     aug_ldl_dsolve(b, NULL, 0, y);
 }
 
+/* One AMPS step (paper 001 table 1 steps 1-6): V, H'K^-1H and S2 brought up to
+   date; a2 = S2^-1 rhs, rhs = H'a_b + H'K^-1H dF_H on base positions, dF on new
+   ones (eq. 3.10 with f_t = [f_b; 0] + P_S dF); then eq. 3.20: new DOFs of A take
+   a2, every other DOF (base DOFs of A too) [a_b; 0] + Kbar^-1 P_S (dF + Ebar a2),
+   through one L^-T over the closure of out (all of L when out is NULL). */
 int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
                   int64_t nout, double rcond_min, double *u, double times[4],
                   cholmod_common *cm, aug_err *e)
@@ -176,9 +182,9 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
     return 0;
 }
 
-/* x = K_t^-1 r by eq. 3.20 with a general right-hand side (iterative
-   refinement). z = D^-1 L^-1 P r once (through the supernodes when the base
-   has them); Kbar^-1 r is needed on A only for the right-hand side of S2, so
+/* x = K_t^-1 r by eqs. 3.8 and 3.20 with a general right-hand side (iterative
+   refinement). z = D^-1 L^-1 P r once (through the supernodes when the base has
+   them); Kbar^-1 r is needed on A only for the right-hand side of S2, so
    L^-T runs there over the closure of A in L' (the top of the tree); the
    correction K^-1 H Ebar a2 joins z before the one full back-substitution:
    one full solve and a little, not two. */

@@ -84,8 +84,9 @@ void aug_bg_free(aug_bg *bg)
     free(bg);
 }
 
-/* compose the queued updates and grow the memo for them, until none is left;
-   any failure just leaves the work to the swap step */
+/* compose the queued updates (paper 001 eq. 3.1) relative to the new base and grow
+   its memo for them (eqs. 3.23-3.27), until none is left; any failure just leaves
+   the work to the swap step */
 static void catch_up(aug_bg *bg)
 {
     aug_err e;
@@ -126,8 +127,9 @@ fail:
     bg->applied = 0;
 }
 
-/* P K P' = L D L' (CHOLMOD's ordering and supernodal choice, converted to
-   simplicial LDL' for the sparse solves), a_b = K^-1 f */
+/* the job (paper 000 sec. 3.6): P K P' = L D L' by CHOLMOD (the given ordering
+   when perm is set, else CHOLMOD's choice), made an aug_base (simplicial LDL' for
+   the sparse solves), a_b = K^-1 f; then catch_up when AMPS is prepared */
 static void *work(void *arg)
 {
     aug_bg *bg = arg;
@@ -158,6 +160,9 @@ static void *work(void *arg)
     return NULL;
 }
 
+/* start the job on K (taken) and a copy of f: the factor of step's matrix in a
+   thread (paper 000 sec. 3.6), perm reused as given ordering when set; amps > 0
+   also prepares AMPS for the steps pushed meanwhile (catch_up) */
 int aug_bg_start(aug_bg *bg, cholmod_sparse *K, const double *f, const int32_t *perm,
                  int32_t step, int amps, aug_err *e)
 {
@@ -229,6 +234,8 @@ int32_t aug_bg_step(const aug_bg *bg) { return bg->step; }
 
 int aug_bg_done(aug_bg *bg) { return bg->running && atomic_load(&bg->done); }
 
+/* stop the job once it has drained the queue, wait, and hand over the new base
+   (NULL with the thread's error, e.g. K not positive definite; the queue dropped) */
 aug_base *aug_bg_join(aug_bg *bg, aug_err *e)
 {
     if (!bg->running) {
@@ -250,6 +257,9 @@ aug_base *aug_bg_join(aug_bg *bg, aug_err *e)
     return b;
 }
 
+/* c = the composition (paper 001 eq. 3.1) of the updates queued since the
+   snapshot, relative to the new base (the thread's, plus those it had not
+   applied); a = the AMPS state the thread prepared, or a fresh one */
 int aug_bg_take(aug_bg *bg, int64_t nb, aug_cum *c, aug_amps *a, aug_err *e)
 {
     int rc = 0;

@@ -26,6 +26,7 @@ void aug_cum_free(aug_cum *c)
     memset(c, 0, sizeof *c);
 }
 
+/* |S restricted to base DOFs|: the m_t of paper 001 (sec. 3) */
 int64_t aug_cum_morig(const aug_cum *c)
 {
     int64_t k = 0;
@@ -71,7 +72,8 @@ static int grow_pos(aug_cum *c, int64_t need)
     return 0;
 }
 
-/* Ebar_cum += scatter(E + [0 0; 0 I_k]); dF += scatter(df) (eq. 3.1 composed) */
+/* Ebar_cum += scatter(E + [0 0; 0 I_k]); dF += scatter(df): paper 001 eq. 3.1
+   composed over steps (formats/stream.md 7.2); S grows by the step's H and k new DOFs */
 int aug_cum_apply(aug_cum *c, const aug_update *u, aug_err *e)
 {
     int64_t m = u->m, k = u->k, s = m + k;
@@ -154,7 +156,7 @@ int aug_cutmat_apply(aug_cutmat *m, const aug_update *u, aug_err *e)
     return aug_cum_apply(&m->cum, u, e);
 }
 
-/* y = Kbar x - P_S Ebar P_S' x */
+/* y = K_t x = Kbar x - P_S Ebar P_S' x (paper 001 eq. 3.1) */
 void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y)
 {
     const int *Ap = m->K0->p, *Ai = m->K0->i;
@@ -174,6 +176,7 @@ void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y)
     }
 }
 
+/* f = f_t = [f_0; 0] + P_S dF */
 void aug_cutmat_rhs(const aug_cutmat *m, double *f)
 {
     memcpy(f, m->f0, (size_t)m->n0 * sizeof *f);
@@ -181,6 +184,8 @@ void aug_cutmat_rhs(const aug_cutmat *m, double *f)
     for (int64_t p = 0; p < m->cum.ns; p++) f[m->cum.S[p]] += m->cum.dF[p];
 }
 
+/* r = f_t - K_t x; returns ||r||_2 / ||f_t||_2 (||r||_2 when f_t = 0), NAN when
+   out of memory */
 double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r)
 {
     int64_t n = m->cum.n;
@@ -202,6 +207,8 @@ double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r)
     return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
 }
 
+/* sqrt(sum over i in S of (f_t - K_t x)_i^2) / ||f_t||_2: relres on the rows
+   where K_t differs from K_0 (row i of Kbar = its column: K_0 is kept full) */
 double aug_cutmat_relres_changed(aug_cutmat *m, const double *x)
 {
     const aug_cum *c = &m->cum;
@@ -231,6 +238,7 @@ double aug_cutmat_relres_changed(aug_cutmat *m, const double *x)
     return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
 }
 
+/* ||f_t - K_t x||_2 / ||f_t||_2 (aug_cutmat_residual into rwork) */
 double aug_cutmat_relres(aug_cutmat *m, const double *x)
 {
     int64_t n = m->cum.n;
@@ -243,6 +251,7 @@ double aug_cutmat_relres(aug_cutmat *m, const double *x)
     return aug_cutmat_residual(m, x, m->rwork);
 }
 
+/* bound on the entries of a column of K_t: the longest column of K_0 plus |S| */
 int64_t aug_cutmat_colmax(const aug_cutmat *m)
 {
     int64_t mx = 1;
@@ -252,7 +261,9 @@ int64_t aug_cutmat_colmax(const aug_cutmat *m)
     return mx + m->cum.ns;
 }
 
-/* Kbar(i, j) for i, j in S by a scattered column of Kbar held in scratch */
+/* column j of K_t = Kbar(:, j) - P_S Ebar(:, pos(j)) (both triangles), rows
+   increasing; rows of S that cancel to 0 are dropped; scratch (size n) is zero on
+   entry and exit */
 int64_t aug_cutmat_column(const aug_cutmat *m, int64_t j, int32_t *idx, double *val,
                           double *scratch)
 {
@@ -298,6 +309,8 @@ int64_t aug_cutmat_column(const aug_cutmat *m, int64_t j, int32_t *idx, double *
     return nz;
 }
 
+/* K_t of order n + pad as CHOLMOD's upper triangle (stype 1), sorted, the pad
+   columns identity; exact zeros of changed entries dropped (aug_cutmat_column) */
 cholmod_sparse *aug_cutmat_sparse(const aug_cutmat *m, int64_t pad, cholmod_common *cm)
 {
     const aug_cum *c = &m->cum;

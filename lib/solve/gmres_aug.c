@@ -62,6 +62,7 @@ int aug_gmres_converged(const aug_gmres *g) { return g->converged; }
 int64_t aug_gmres_closure_j(const aug_gmres *g) { return g->n1; }
 int64_t aug_gmres_closure_h(const aug_gmres *g) { return g->n2; }
 
+/* K(:,a)' K(:,b) of a K stored with both triangles, columns sorted */
 static double dot_cols(const cholmod_sparse *K, int64_t a, int64_t b)
 {
     const int *Kp = K->p, *Ki = K->i;
@@ -76,6 +77,7 @@ static double dot_cols(const cholmod_sparse *K, int64_t a, int64_t b)
     return s;
 }
 
+/* K(i, j), 0 when not stored */
 static double entry(const cholmod_sparse *K, int64_t i, int64_t j)
 {
     const int *Kp = K->p, *Ki = K->i;
@@ -84,8 +86,9 @@ static double entry(const cholmod_sparse *K, int64_t i, int64_t j)
     return 0;
 }
 
-/* column j of S minimizes ||K S(:,j) - e_j|| over rows {j-1, j, j+1}: the
-   3x3 (or 2x2) normal equations (paper 000 sec. 3.5, Benson-Frederickson) */
+/* column j of S minimizes ||K S(:,j) - e_j||_2 over rows {j-1, j, j+1}: the 3x3
+   (or 2x2) normal equations (paper 000 sec. 3.5, [Benson-Frederickson 1982]),
+   S(j,j) = 1/K(j,j) alone when they are singular; K with both triangles */
 int aug_gmres_set_base(aug_gmres *g, const aug_base *b, const cholmod_sparse *K, aug_err *e)
 {
     (void)b;
@@ -112,7 +115,9 @@ int aug_gmres_set_base(aug_gmres *g, const aug_base *b, const cholmod_sparse *K,
     return 0;
 }
 
-/* coefficient S(r, i) of the approximate inverse */
+/* S(r, i) of the S ~ Kbar^-1 in the preconditioner H'SJ (paper 000 sec. 3.5):
+   D^-1 of P K_b P' = L D L' at i's permuted position (1 on new DOFs), or the
+   tridiagonal SPAI (identity beyond K_b) */
 static double sapprox(const aug_gmres *g, const aug_base *b, int64_t r, int64_t i)
 {
     if (g->prec == AUG_PREC_D) return r == i ? (i < b->n ? 1.0 / aug_base_d(b, b->pinv[i]) : 1.0) : 0;
@@ -120,7 +125,8 @@ static double sapprox(const aug_gmres *g, const aug_base *b, int64_t r, int64_t 
     return g->spai[i * 3 + (r - i + 1)];
 }
 
-/* out = H' Kbar^-1 J v (eq. 20): forward over closure(J), backward over closure(H) */
+/* out = H' Kbar^-1 J v (paper 000 eq. 20): forward over closure(J), backward over
+   closure(H); new DOFs pass through (Kbar^-1 = I there) */
 static void apply_a(aug_gmres *g, const aug_base *b, const aug_cum *c, const double *v, double *out)
 {
     double *bb = g->b, *y = g->y;
@@ -139,6 +145,7 @@ static void apply_a(aug_gmres *g, const aug_base *b, const aug_cum *c, const dou
     }
 }
 
+/* v := (H'SJ)^-1 v by the LU of setup (nothing without a preconditioner) */
 static int prec_solve(const aug_gmres *g, double *v)
 {
     if (g->prec == AUG_PREC_NONE || !g->prec_ok) return 0;
@@ -158,7 +165,9 @@ static int64_t merge(const int32_t *a, int64_t na, const int32_t *bl, int64_t nb
     return k;
 }
 
-/* J = K_t Hbar, the closures, the preconditioner */
+/* J = K_t Hbar (paper 000 eqs. 4-6; paper 001 eq. 3.37), struct(J), closure(J)
+   and closure(H) (paper 000 sec. 3.3.1, thm 3), and the preconditioner H'SJ
+   LU-factored densely (sec. 3.5) */
 static int setup(aug_gmres *g, const aug_base *b, const aug_cum *c, const aug_cutmat *m, aug_err *e)
 {
     free_step(g);
@@ -245,8 +254,11 @@ static double nrm2(const double *v, int64_t n)
     return sqrt(s);
 }
 
-/* restarted GMRES with right preconditioning and Givens rotations on A x = rhs
-   to ||rhs - A x|| <= tol ||rhs||, from x (warm) or from 0; adds to g->iters */
+/* restarted GMRES(restart) with right preconditioning, modified Gram-Schmidt and
+   Givens rotations ([Saad] ch. 6, 9) on A x = rhs, A = H'Kbar^-1J (apply_a), from
+   x (warm) or from 0; each cycle ends at the estimate |s_j+1| <= tol ||rhs||, and
+   converged is set on the true residual ||rhs - A x|| <= tol ||rhs|| after a
+   cycle; at most g->maxit iterations in all (g->iters accumulates) */
 static int gmres(aug_gmres *g, const aug_base *b, const aug_cum *c, const double *rhs, double *x,
                  double tol, int warm)
 {
@@ -337,6 +349,12 @@ static void forward_c12(aug_gmres *g, const aug_base *b)
     aug_ldl_dsolve(b, g->c12, g->n12, g->y);
 }
 
+/* One step of paper 000 sec. 3.2: setup; solution step 1 rhs = H'Kbar^-1 f_t =
+   H'a_b + H'K^-1 P_S dF over closure(H) (eqs. 17-18); step 2 GMRES on eq. 17;
+   step 3 a1 = [a_b; 0] + Kbar^-1 (P_S dF - J a2) (eq. 16) over the closure of out
+   (all of L when out is NULL), a2 on S (eq. 9). Whole-field solves resume steps
+   2-3 warm, the Schur tolerance times 0.5 tol / relres, until relres(K_t) <= tol
+   (at most 9 rounds, tolerance >= 1e-15), else converged = 0. */
 int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat *m,
                    const int32_t *out, int64_t nout, double *u, double times[4], aug_err *e)
 {
@@ -434,7 +452,7 @@ int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat
 }
 
 /* K_t x = r for a general r (iterative refinement): the same three steps with
-   full solves */
+   full solves, this step's J and preconditioner */
 int aug_gmres_solve_general(aug_gmres *g, const aug_base *b, const aug_cum *c,
                             const double *r, double *x, aug_err *e)
 {

@@ -1,5 +1,5 @@
 /* Sparse-RHS triangular solves on a simplicial LDL' factor over elimination-tree
-   closures (paper 000 sec. 3.3 and appendix theorems 1-3). */
+   closures (paper 000 sec. 3.3 and appendix theorems 1-3; [Davis] ch. 3-4). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,7 +12,8 @@ static int cmp_i32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* parent[j] = min row index of L(:,j) below the diagonal */
+/* parent[j] = min{i > j : L(i,j) != 0}, -1 at a root: the elimination tree of L
+   (paper 000 appendix def. 2; [Liu 1990]) */
 static void etree_of(aug_base *b)
 {
     for (int64_t j = 0; j < b->n; j++) {
@@ -77,6 +78,10 @@ static cholmod_factor *factor_given(const cholmod_sparse *Kb, const int32_t *per
     return L;
 }
 
+/* The base of the augmented methods: P K_b P' = L D L' simplicial (the R = L D L'
+   of paper 000 eq. 12 before padding), its etree checked closed (thm 3; else
+   re-factored with the same P), D > 0, a_b = K_b^-1 f_b; bases of order >=
+   AUG_SUPERNODAL_MIN also keep the supernodal Ls = L D^1/2 for full solves. */
 aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double *fb,
                        int32_t step, cholmod_common *cm, aug_err *e)
 {
@@ -177,6 +182,8 @@ void aug_base_release(aug_base *b, cholmod_common *cm)
     free(b);
 }
 
+/* path = p, parent(p), ... up to its root, ascending: closure_L({p}) (paper 000
+   thm 3); returns its length */
 int64_t aug_ldl_path(const aug_base *b, int32_t p, int32_t *path)
 {
     int64_t k = 0;
@@ -184,6 +191,8 @@ int64_t aug_ldl_path(const aug_base *b, int32_t p, int32_t *path)
     return k;
 }
 
+/* out = closure_L(start) = union of the etree paths of start (paper 000 thm 3),
+   ascending; returns its size */
 int64_t aug_ldl_closure(const aug_base *b, const int32_t *start, int64_t ns, int32_t *out,
                         unsigned char *mark)
 {
@@ -198,7 +207,8 @@ int64_t aug_ldl_closure(const aug_base *b, const int32_t *start, int64_t ns, int
     return k;
 }
 
-/* x := L^-1 x, column by column in increasing order over the closed set */
+/* x := L^-1 x, column by column in increasing order over the closed set (x is
+   zero outside it, and so is L^-1 x: paper 000 thm 1) */
 void aug_ldl_lsolve(const aug_base *b, const int32_t *set, int64_t k, double *x)
 {
     const int *Lp = b->Lp, *Li = b->Li, *Lnz = b->Lnz;
@@ -212,6 +222,7 @@ void aug_ldl_lsolve(const aug_base *b, const int32_t *set, int64_t k, double *x)
     }
 }
 
+/* x := D^-1 x over set (all columns when set is NULL) */
 void aug_ldl_dsolve(const aug_base *b, const int32_t *set, int64_t k, double *x)
 {
     int64_t n = set ? k : b->n;
@@ -221,7 +232,8 @@ void aug_ldl_dsolve(const aug_base *b, const int32_t *set, int64_t k, double *x)
     }
 }
 
-/* x := L^-T x in decreasing order; every row read lies in the closed set */
+/* x := L^-T x in decreasing order over the closed set; every row read lies in
+   it (paper 000 thm 2: the set's components of L^-T x need only the set) */
 void aug_ldl_ltsolve(const aug_base *b, const int32_t *set, int64_t k, double *x)
 {
     const int *Lp = b->Lp, *Li = b->Li, *Lnz = b->Lnz;
@@ -251,10 +263,11 @@ static void trsm_lower(int n, int r, const double *T, int ldt, double *B, int ld
     }
 }
 
-/* Ls X = E_P supernode by supernode over the union of the paths, in
-   increasing order: per supernode one triangular solve and one product on
-   all r right-hand sides (a right-hand side whose path enters the supernode
-   further down is zero above its entry and stays so). X is n x r row-major,
+/* r columns of V at once (paper 001 eq. 3.24): Ls X = E_P supernode by supernode
+   over the union of the paths, in increasing order: per supernode one triangular
+   solve and one product on all r right-hand sides (a right-hand side whose path
+   enters the supernode further down is zero above its entry and stays so);
+   outs[q][t] = X(paths[q][t], q) D^1/2, since L = Ls D^-1/2. X is n x r row-major,
    so a row's r values are adjacent for the scatter. */
 int aug_ldl_paths_solve_super(const aug_base *b, int r, const int32_t *p, int32_t *const *paths,
                               const int64_t *lens, double *const *outs)
@@ -317,6 +330,9 @@ nomem:
     return -1;
 }
 
+/* x := L^-T x = Ls^-T (D^1/2 x) on the rows of the etree closure set only (paper
+   000 thm 2), supernode by supernode (dgemv + dtrsv); column by column
+   (aug_ldl_ltsolve) when a supernode's rows in set are not a suffix of its columns */
 void aug_ldl_ltsolve_closure_super(const aug_base *b, const int32_t *set, int64_t k, double *x,
                                    double *tmp)
 {
@@ -377,6 +393,7 @@ int aug_ldl_ltsolve_all(const aug_base *b, double *x, cholmod_dense **X, cholmod
     return 0;
 }
 
+/* x = K_b^-1 rhs = P' L^-T D^-1 L^-1 P rhs over all columns (simplicial) */
 void aug_ldl_solve_full(const aug_base *b, const double *rhs, double *x, double *work)
 {
     for (int64_t k = 0; k < b->n; k++) work[k] = rhs[b->perm[k]];

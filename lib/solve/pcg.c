@@ -1,4 +1,5 @@
-/* Baseline: Jacobi-preconditioned conjugate gradients on the cut matrix. */
+/* Baseline: Jacobi-preconditioned conjugate gradients on the cut matrix
+   ([Saad] ch. 9; Hestenes-Stiefel). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,8 +27,11 @@ static void symv_upper(const cholmod_sparse *K, const double *x, double *y)
     }
 }
 
-/* CG on K x = f with M = diag(K) (Hestenes-Stiefel), stopping at
-   ||f - K x|| <= tol ||f|| (recursive residual, checked against the true one) */
+/* x := PCG on K x = f from the given x ([Saad] ch. 9), M = diag(K) (1 where
+   K(j,j) <= 0): iterates while the recursive ||r|| > tol ||f|| (||f|| := 1 when
+   f = 0), restarting from the true residual when it has drifted (at most 5
+   passes); breakdown when p'Kp <= 0. relres = true ||f - K x|| / ||f||; converged:
+   no breakdown and relres <= tol. Returns the iterations of all passes, -1 memory. */
 int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int maxit,
             int *converged, int *breakdown, double *relres, cholmod_common *cm)
 {

@@ -14,6 +14,7 @@ void aug_refactor_free(aug_refactor *r, cholmod_common *cm)
     memset(r, 0, sizeof *r);
 }
 
+/* 1 when K has the pattern of the last analysis (its symbolic factor is reused) */
 static int same_pattern(const aug_refactor *r, const cholmod_sparse *K)
 {
     const int *Kp = K->p;
@@ -35,7 +36,9 @@ static int keep_pattern(aug_refactor *r, const cholmod_sparse *K)
     return 0;
 }
 
-/* P K_t P' = L D L' (or L L'), x = K_t^-1 f_t */
+/* P K_t P' = L D L' (or L L') by CHOLMOD ([CHOLMOD]: cholmod_analyze only when the
+   pattern changed, cholmod_factorize every step), x = K_t^-1 f_t; not positive
+   definite: singular = 1 and x untouched */
 int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double times[4],
                       cholmod_common *cm, aug_err *e)
 {
@@ -75,6 +78,7 @@ int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double ti
     return rc;
 }
 
+/* x = K_t^-1 rhs with the last factor (cholmod_solve) */
 int aug_refactor_solve(aug_refactor *r, const double *rhs, double *x, cholmod_common *cm,
                        aug_err *e)
 {

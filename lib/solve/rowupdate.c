@@ -1,5 +1,6 @@
-/* Baseline: CHOLMOD row deletions and additions (cholmod_rowdel/rowadd) on a
-   simplicial LDL' of blkdiag(K_t, I_spare); new DOFs take spare identity rows. */
+/* Baseline: CHOLMOD row deletions and additions (cholmod_rowdel/rowadd,
+   [Davis-Hager 2005]) on a simplicial LDL' of blkdiag(K_t, I_spare); new DOFs
+   take spare identity rows. */
 #include <stdlib.h>
 #include <string.h>
 #include "aug_solve.h"
@@ -57,6 +58,8 @@ static cholmod_factor *padded_factor(const aug_cutmat *m, int64_t spare, const i
     return L;
 }
 
+/* the simplicial LDL' of blkdiag(K_t, I_spare) in the base's ordering (spares
+   last), by padded_factor */
 aug_rowupd *aug_rowupd_new(const aug_cutmat *m, const aug_base *b0, int64_t spare,
                            cholmod_common *cm, aug_err *e)
 {
@@ -91,6 +94,11 @@ static int rebuild(aug_rowupd *r, const aug_cutmat *m, cholmod_common *cm)
     return set_pinv(r) ? -1 : 1;
 }
 
+/* Row modifications of the step ([Davis-Hager 2005]): every row i of Hbar deleted
+   (cholmod_rowdel: row and column of L D L' become e_i), then added back one by
+   one as column i of K_t on the rows already present (cholmod_rowadd), so each
+   intermediate matrix is K_t with identity rows; x = K_t^-1 f_t. Out of spare
+   rows: re-factored with twice the spares. singular: a pivot D(k,k) <= 0. */
 int aug_rowupd_step(aug_rowupd *r, const aug_cutmat *m, const aug_update *u, double *x,
                     double times[2], int64_t *rows, int *rebuilt, int *singular,
                     cholmod_common *cm, aug_err *e)
@@ -168,6 +176,7 @@ int aug_rowupd_step(aug_rowupd *r, const aug_cutmat *m, const aug_update *u, dou
     return rc;
 }
 
+/* x = K_t^-1 rhs through blkdiag(K_t, I_spare) (the spare rows of rhs are 0) */
 int aug_rowupd_solve(aug_rowupd *r, int64_t n, const double *rhs, double *x, cholmod_common *cm,
                      aug_err *e)
 {

@@ -16,7 +16,10 @@ int aug_qhist_bin(const double *edges, double v)
     return b;
 }
 
-/* sums over elements of aug_elem_quality (thesis 003 sec. 3.3 for tri3 aspect) */
+/* sums over elements of aug_elem_quality: total signed measure; min, max, mean
+   and histogram of aspect (tri3: thesis 003 eq. 3.10; tet4: R / (3 r)) and of the
+   least angle; max edge ratio; over the elements whose figures are finite (nbad
+   counts the others) */
 void aug_mesh_qstats(const aug_mesh *m, aug_qstats *s)
 {
     memset(s, 0, sizeof *s);

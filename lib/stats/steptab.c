@@ -69,6 +69,8 @@ double aug_steprow_get(const aug_steprow *r, const char *key, int *found)
     return f ? v : NAN;
 }
 
+/* median of v[0..n) (v is sorted in place; the mean of the two middle values for
+   even n; NAN for n = 0) */
 double aug_median(double *v, size_t n)
 {
     if (n == 0) return NAN;
