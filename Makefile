@@ -35,7 +35,8 @@ DEPS = /usr/include/suitesparse/cholmod.h:libsuitesparse-dev \
        /usr/bin/gnuplot:gnuplot-nox \
        /usr/bin/clang:clang \
        /usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a:libclang-rt-14-dev \
-       /usr/bin/python3:python3
+       /usr/bin/python3:python3 \
+       /usr/include/valgrind/valgrind.h:valgrind
 
 .PHONY: all deps check demo bench check-asan fuzz clean scenes
 all: $(TOOLS) $(UNIT)
@@ -69,20 +70,22 @@ bin/meshload: bin/meshload.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS)
 bin/%: bin/%.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS)
 	$(CC) $(CFLAGS) -o $@ $< $(B)/libaugcli.a lib/libaugcut.a $(LDLIBS_NUM)
 
-$(B)/tests/%: tests/unit/%.c lib/libaugcut.a $(HDRS)
+$(B)/tests/%: tests/unit/%.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -Itests/unit -o $@ $< lib/libaugcut.a $(LDLIBS_NUM)
+	$(CC) $(CFLAGS) -Itests/unit -o $@ $< $(B)/libaugcli.a lib/libaugcut.a $(LDLIBS_NUM)
 
-# Sanitizer build of the library and unit tests (ASan + UBSan).
+# Sanitizer build of the library, its cli part and the unit tests (ASan + UBSan).
 ASAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 $(B)/asan/lib/%.o: lib/%.c $(HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) $(ASAN_FLAGS) -c -o $@ $<
 $(B)/asan/libaugcut.a: $(LIB_SRC:lib/%.c=$(B)/asan/lib/%.o)
 	rm -f $@ && ar rcs $@ $^
-$(B)/asan/tests/%: tests/unit/%.c $(B)/asan/libaugcut.a $(HDRS)
+$(B)/asan/libaugcli.a: $(CLI_SRC:lib/%.c=$(B)/asan/lib/%.o)
+	rm -f $@ && ar rcs $@ $^
+$(B)/asan/tests/%: tests/unit/%.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) $(ASAN_FLAGS) -Itests/unit -o $@ $< $(B)/asan/libaugcut.a $(LDLIBS_NUM)
+	$(CC) $(CFLAGS) $(ASAN_FLAGS) -Itests/unit -o $@ $< $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(LDLIBS_NUM)
 ASAN_UNIT := $(UNIT_SRC:tests/unit/%.c=$(B)/asan/tests/%)
 
 # Bundled scenes, meshed by gmsh from scenes/*.geo

@@ -1,11 +1,12 @@
 /* cut: a stream (mesh, possibly factor and earlier steps) -> + per cut step
    MDLT, BDLT, UPDT, pATH (planar cut by node duplication, or a 2-D path). */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "augcut.h"
-#include "cli/aug_tool.h"
+#include "cli/aug_opt.h"
 
 static const char *synopsis =
     "cut [FILE] (--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--polygon PTS] [--per-step K] [--seed S]\n"
@@ -97,97 +98,80 @@ static int parse_constraint(const char *s, constraint *c)
     return 0;
 }
 
+/* --plane nx,ny,nz,d | random */
+static int plane(aug_tool *t, const char *opt, const char *val, void *dst)
+{
+    options *o = dst;
+    o->plane = 1;
+    if (!strcmp(val, "random")) {
+        o->random_plane = 1;
+        return 0;
+    }
+    if (aug_parse_doubles(val, o->n, 4)) return -1;
+    if (o->n[0] == 0 && o->n[1] == 0 && o->n[2] == 0) aug_tool_usage(t, "%s %s: the normal is zero", opt, val);
+    return 0;
+}
+
+/* --polygon x,y,z,...: 3 to 64 points */
+static int polygon(aug_tool *t, const char *opt, const char *val, void *dst)
+{
+    options *o = dst;
+    int nc = 0;
+    (void)t, (void)opt;
+    for (const char *c = val; *c; c++) nc += *c == ',';
+    if ((nc + 1) % 3 != 0 || (nc + 1) / 3 < 3 || (nc + 1) / 3 > 64 || aug_parse_doubles(val, o->poly, nc + 1))
+        return -1;
+    o->npoly = (nc + 1) / 3;
+    return 0;
+}
+
+/* --constrain SPEC, repeatable */
+static int constrain(aug_tool *t, const char *opt, const char *val, void *dst)
+{
+    options *o = dst;
+    constraint c;
+    (void)opt;
+    if (parse_constraint(val, &c)) return -1;
+    constraint *q = realloc(o->con, (size_t)(o->ncon + 1) * sizeof *q);
+    if (!q) aug_tool_die(t, "out of memory");
+    o->con = q;
+    o->con[o->ncon++] = c;
+    return 0;
+}
+
+static const aug_word modes[] = {{"split", AUG_PATH_SPLIT}, {"snap", AUG_PATH_SNAP}, {NULL, 0}};
+static const aug_word policies[] = {{"error", AUG_DETACH_ERROR}, {"pin", AUG_DETACH_PIN},
+                                    {"drop", AUG_DETACH_DROP},   {"keep", AUG_DETACH_KEEP},
+                                    {NULL, 0}};
+
 static void parse(aug_tool *t, int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
     o->mode = AUG_PATH_SPLIT;
     o->snap_tol = 0.05;
     o->seed = 1;
-    int have_steps = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            printf("usage: %s\n%s", synopsis, help);
-            exit(0);
-        } else if (!strcmp(a, "--plane")) {
-            if (v && !strcmp(v, "random")) o->random_plane = o->plane = 1;
-            else if (!v || aug_parse_doubles(v, o->n, 4))
-                aug_tool_usage(t, "--plane needs nx,ny,nz,d or random");
-            else if (o->n[0] == 0 && o->n[1] == 0 && o->n[2] == 0)
-                aug_tool_usage(t, "--plane %s: the normal is zero", v);
-            if (v) o->plane = 1;
-            i += v != NULL;
-        } else if (!strcmp(a, "--advance")) {
-            if (!v || aug_parse_doubles(v, o->adv, 3)) aug_tool_usage(t, "--advance needs dx,dy,dz");
-            else o->have_adv = 1;
-            i += v != NULL;
-        } else if (!strcmp(a, "--polygon")) {
-            int nc = 0;
-            for (const char *c = v; c && *c; c++) nc += *c == ',';
-            if (!v || (nc + 1) % 3 != 0 || (nc + 1) / 3 < 3 || (nc + 1) / 3 > 64 ||
-                aug_parse_doubles(v, o->poly, nc + 1))
-                aug_tool_usage(t, "--polygon needs 3 to 64 points x,y,z,x,y,z,...");
-            else o->npoly = (nc + 1) / 3;
-            i += v != NULL;
-        } else if (!strcmp(a, "--steps")) {
-            if (!v || aug_parse_long(v, &o->steps) || o->steps < 1 || o->steps > 1000000)
-                aug_tool_usage(t, "--steps needs a count from 1 to 1000000");
-            else have_steps = 1;
-            i += v != NULL;
-        } else if (!strcmp(a, "--per-step")) {
-            if (!v || aug_parse_long(v, &o->per_step) || o->per_step < 1)
-                aug_tool_usage(t, "--per-step needs a count >= 1");
-            i += v != NULL;
-        } else if (!strcmp(a, "--seed")) {
-            if (!v || aug_parse_long(v, &o->seed) || o->seed < 0)
-                aug_tool_usage(t, "--seed needs an integer >= 0");
-            i += v != NULL;
-        } else if (!strcmp(a, "--pull")) {
-            if (!v || aug_parse_double(v, &o->pull)) aug_tool_usage(t, "--pull needs a force");
-            i += v != NULL;
-        } else if (!strcmp(a, "--snap-tol")) {
-            if (!v || aug_parse_double(v, &o->snap_tol) || !(o->snap_tol >= 0 && o->snap_tol < 0.5))
-                aug_tool_usage(t, "--snap-tol needs a number in [0, 0.5)");
-            i += v != NULL;
-        } else if (!strcmp(a, "--mode")) {
-            if (v && !strcmp(v, "split")) o->mode = AUG_PATH_SPLIT;
-            else if (v && !strcmp(v, "snap")) o->mode = AUG_PATH_SNAP;
-            else aug_tool_usage(t, "--mode needs split or snap");
-            i += v != NULL;
-        } else if (!strcmp(a, "--detached")) {
-            if (v && !strcmp(v, "error")) o->policy = AUG_DETACH_ERROR;
-            else if (v && !strcmp(v, "pin")) o->policy = AUG_DETACH_PIN;
-            else if (v && !strcmp(v, "drop")) o->policy = AUG_DETACH_DROP;
-            else if (v && !strcmp(v, "keep")) o->policy = AUG_DETACH_KEEP;
-            else aug_tool_usage(t, "--detached needs error, pin, drop or keep");
-            i += v != NULL;
-        } else if (!strcmp(a, "--constrain")) {
-            constraint c;
-            if (!v || parse_constraint(v, &c))
-                aug_tool_usage(t, "--constrain needs SET or box:LO,HI, optionally =u,v[,w] and @STEP");
-            else {
-                constraint *q = realloc(o->con, (size_t)(o->ncon + 1) * sizeof *q);
-                if (!q) aug_tool_die(t, "out of memory");
-                o->con = q;
-                o->con[o->ncon++] = c;
-            }
-            i += v != NULL;
-        } else if (!strcmp(a, "--path")) {
-            if (!v) aug_tool_usage(t, "--path needs a file");
-            else if (o->pathfile) aug_tool_usage(t, "more than one --path");
-            else o->pathfile = v;
-            i += v != NULL;
-        } else if (!strcmp(a, "--stats")) o->stats = 1;
-        else if (!strcmp(a, "--deflate")) o->deflate = 1;
-        else if (a[0] == '-' && a[1]) aug_tool_usage(t, "unknown option %s", a);
-        else if (o->file) aug_tool_usage(t, "more than one input file (%s, %s)", o->file, a);
-        else o->file = a;
-    }
-    if (!have_steps) aug_tool_usage(t, "--steps N is required");
+    int nsteps = 0;
+    const aug_opt opt[] = {
+        {AUG_OPT_CALL("--plane", plane, o, "nx,ny,nz,d or random")},
+        {AUG_OPT_REALS("--advance", o->adv, 3, "dx,dy,dz"), .given = &o->have_adv},
+        {AUG_OPT_CALL("--polygon", polygon, o, "3 to 64 points x,y,z,x,y,z,...")},
+        {AUG_OPT_INT("--steps", &o->steps, 1, 1000000, "a count from 1 to 1000000"), .given = &nsteps},
+        {AUG_OPT_INT("--per-step", &o->per_step, 1, LONG_MAX, "a count >= 1")},
+        {AUG_OPT_INT("--seed", &o->seed, 0, LONG_MAX, "an integer >= 0")},
+        {AUG_OPT_REAL("--pull", &o->pull, -HUGE_VAL, HUGE_VAL, "a force")},
+        {AUG_OPT_REAL("--snap-tol", &o->snap_tol, 0, 0.5, "a number in [0, 0.5)"), .flags = AUG_OPT_HI_OPEN},
+        {AUG_OPT_CHOICE("--mode", &o->mode, modes, "split or snap")},
+        {AUG_OPT_CHOICE("--detached", &o->policy, policies, "error, pin, drop or keep")},
+        {AUG_OPT_CALL("--constrain", constrain, o, "SET or box:LO,HI, optionally =u,v[,w] and @STEP")},
+        {AUG_OPT_STRING("--path", &o->pathfile, "a file"), .flags = AUG_OPT_ONCE},
+        {AUG_OPT_FLAG("--stats", &o->stats)},
+        {AUG_OPT_FLAG("--deflate", &o->deflate)},
+    };
+    aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
+    if (!nsteps) aug_tool_usage(t, "--steps N is required");
     if (o->plane == (o->pathfile != NULL)) aug_tool_usage(t, "give exactly one of --plane and --path");
     for (int i = 0; i < o->ncon; i++)
-        if (have_steps && o->con[i].step > o->steps)
+        if (o->steps >= 1 && o->con[i].step > o->steps)
             aug_tool_usage(t, "--constrain at step %ld after the last step %ld", o->con[i].step, o->steps);
     if (o->pathfile) {
         FILE *f = fopen(o->pathfile, "r");

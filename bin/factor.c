@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "aug_fem.h"
-#include "cli/aug_tool.h"
+#include "cli/aug_opt.h"
 
 static const char *synopsis =
     "factor [FILE] [--ordering auto|amd|metis] [--simplicial] [--threads N]\n"
@@ -30,44 +30,28 @@ typedef struct options {
     double cond_tol;
 } options;
 
+static const aug_word orderings[] = {
+    {"auto", AUG_ORDER_AUTO}, {"amd", AUG_ORDER_AMD}, {"metis", AUG_ORDER_METIS}, {NULL, 0}};
+
 static void parse(aug_tool *t, int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
     o->threads = 1;
     o->cond_tol = 1e-4;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        long n;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            printf("usage: %s\n%s", synopsis, help);
-            exit(0);
-        } else if (!strcmp(a, "--ordering")) {
-            if (!v) aug_tool_usage(t, "--ordering needs auto, amd or metis");
-            else if (!strcmp(v, "auto")) o->ordering = AUG_ORDER_AUTO;
-            else if (!strcmp(v, "amd")) o->ordering = AUG_ORDER_AMD;
-            else if (!strcmp(v, "metis")) o->ordering = AUG_ORDER_METIS;
-            else aug_tool_usage(t, "--ordering %s: not one of auto, amd, metis", v);
-            i += v != NULL;
-        } else if (!strcmp(a, "--threads")) {
-            if (!v || aug_parse_long(v, &n) || n < 1 || n > 1024)
-                aug_tool_usage(t, "--threads needs a count from 1 to 1024");
-            else o->threads = (int)n;
-            i += v != NULL;
-        } else if (!strcmp(a, "--cond-tol")) {
-            if (!v || aug_parse_double(v, &o->cond_tol) || !(o->cond_tol > 0 && o->cond_tol < 1))
-                aug_tool_usage(t, "--cond-tol needs a number in (0, 1)");
-            i += v != NULL;
-        } else if (!strcmp(a, "--simplicial")) o->simplicial = 1;
-        else if (!strcmp(a, "--mass")) o->mass = 1;
-        else if (!strcmp(a, "--lumped-mass")) o->lumped = 1;
-        else if (!strcmp(a, "--no-factor")) o->no_factor = 1;
-        else if (!strcmp(a, "--no-cond")) o->no_cond = 1;
-        else if (!strcmp(a, "--deflate")) o->deflate = 1;
-        else if (a[0] == '-' && a[1]) aug_tool_usage(t, "unknown option %s", a);
-        else if (o->file) aug_tool_usage(t, "more than one input file (%s, %s)", o->file, a);
-        else o->file = a;
-    }
+    const aug_opt opt[] = {
+        {AUG_OPT_CHOICE("--ordering", &o->ordering, orderings, "auto, amd or metis"),
+         .bad = "not one of auto, amd, metis"},
+        {AUG_OPT_THREADS(&o->threads)},
+        {AUG_OPT_REAL("--cond-tol", &o->cond_tol, 0, 1, "a number in (0, 1)"),
+         .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
+        {AUG_OPT_FLAG("--simplicial", &o->simplicial)},
+        {AUG_OPT_FLAG("--mass", &o->mass)},
+        {AUG_OPT_FLAG("--lumped-mass", &o->lumped)},
+        {AUG_OPT_FLAG("--no-factor", &o->no_factor)},
+        {AUG_OPT_FLAG("--no-cond", &o->no_cond)},
+        {AUG_OPT_FLAG("--deflate", &o->deflate)},
+    };
+    aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     aug_tool_usage_done(t, synopsis);
 }
 

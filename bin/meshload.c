@@ -5,7 +5,7 @@
 #include <string.h>
 #include "aug_scene.h"
 #include "cli/aug_gmsh.h"
-#include "cli/aug_tool.h"
+#include "cli/aug_opt.h"
 
 static const char *synopsis =
     "meshload FILE.msh [--fix GROUP|box:x0,y0,z0,x1,y1,z1|plane:nx,ny,nz,d[,tol]]...\n"
@@ -189,6 +189,38 @@ static void parse_material(aug_tool *t, const char *s, matopt *m)
     parse_props(t, "--material", s, c + 1, &m->p);
 }
 
+/* --fix, --load, --material (repeatable): one more item, marked bad when its
+   own text is refused */
+static int parse_item(aug_tool *t, const char *opt, const char *s, void *dst)
+{
+    options *o = dst;
+    int n0 = t->usage_errors, *bad;
+    if (!strcmp(opt, "--fix")) {
+        fixopt *f = &o->fix[o->nfix++];
+        parse_fix(t, s, f);
+        bad = &f->bad;
+    } else if (!strcmp(opt, "--load")) {
+        loadopt *l = &o->load[o->nload++];
+        parse_load(t, s, l);
+        bad = &l->bad;
+    } else {
+        matopt *m = &o->mat[o->nmat++];
+        parse_material(t, s, m);
+        bad = &m->bad;
+    }
+    *bad = t->usage_errors > n0;
+    return 0;
+}
+
+/* --default-material E=..,nu=..,rho=..,t=.. */
+static int parse_default(aug_tool *t, const char *opt, const char *s, void *dst)
+{
+    options *o = dst;
+    o->defarg = s;
+    parse_props(t, opt, s, s, &o->def);
+    return 0;
+}
+
 static void parse(aug_tool *t, int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
@@ -196,67 +228,22 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     o->mat = calloc((size_t)argc, sizeof *o->mat);
     o->load = calloc((size_t)argc, sizeof *o->load);
     if (!o->fix || !o->mat || !o->load) aug_tool_die(t, "out of memory");
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *val = NULL;
-        char name[32];
-        const char *eq = strncmp(a, "--", 2) == 0 ? strchr(a, '=') : NULL;
-        if (eq && (size_t)(eq - a) < sizeof name) { /* --opt=value */
-            memcpy(name, a, (size_t)(eq - a));
-            name[eq - a] = 0;
-            a = name;
-            val = eq + 1;
-        }
-        int takes = !strcmp(a, "--fix") || !strcmp(a, "--material") || !strcmp(a, "--load") ||
-                    !strcmp(a, "--output") || !strcmp(a, "--default-material");
-        if (takes && !val) {
-            if (i + 1 >= argc || strncmp(argv[i + 1], "--", 2) == 0) {
-                aug_tool_usage(t, "%s needs a value", a);
-                continue;
-            }
-            val = argv[++i];
-        } else if (!takes && val) {
-            aug_tool_usage(t, "%s takes no value", a);
-            continue;
-        }
-        int n0 = t->usage_errors;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            printf("usage: %s\n%s", synopsis, help);
-            exit(0);
-        } else if (!strcmp(a, "--fix")) {
-            fixopt *f = &o->fix[o->nfix++];
-            parse_fix(t, val, f);
-            f->bad = t->usage_errors > n0; /* its own text was refused */
-        } else if (!strcmp(a, "--material")) {
-            matopt *m = &o->mat[o->nmat++];
-            parse_material(t, val, m);
-            m->bad = t->usage_errors > n0;
-        } else if (!strcmp(a, "--default-material")) {
-            if (o->defarg) aug_tool_usage(t, "--default-material given twice");
-            o->defarg = val;
-            parse_props(t, "--default-material", val, val, &o->def);
-        } else if (!strcmp(a, "--load")) {
-            loadopt *l = &o->load[o->nload++];
-            parse_load(t, val, l);
-            l->bad = t->usage_errors > n0;
-        } else if (!strcmp(a, "--output")) {
-            if (o->output) aug_tool_usage(t, "--output given twice");
-            o->output = val;
-            if (!val[0]) aug_tool_usage(t, "--output: empty set name"), o->output = "all";
-        } else if (!strcmp(a, "--reorient")) {
-            o->reorient = 1;
-        } else if (!strcmp(a, "--deflate")) {
-            o->deflate = 1;
-        } else if (a[0] == '-' && a[1]) {
-            aug_tool_usage(t, "unknown option %s", a);
-        } else if (o->file) {
-            aug_tool_usage(t, "only one mesh file, not %s as well", a);
-        } else {
-            o->file = a;
-        }
-    }
+    const aug_opt opt[] = {
+        {AUG_OPT_CALL("--fix", parse_item, o, "a value")},
+        {AUG_OPT_CALL("--material", parse_item, o, "a value")},
+        {AUG_OPT_CALL("--default-material", parse_default, o, "a value"), .flags = AUG_OPT_ONCE},
+        {AUG_OPT_CALL("--load", parse_item, o, "a value")},
+        {AUG_OPT_STRING("--output", &o->output, "a value"), .bad = "empty set name",
+         .flags = AUG_OPT_ONCE | AUG_OPT_NONEMPTY},
+        {AUG_OPT_FLAG("--reorient", &o->reorient)},
+        {AUG_OPT_FLAG("--deflate", &o->deflate)},
+    };
+    aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (!o->file) aug_tool_usage(t, "no mesh file given");
     else if (!strcmp(o->file, "-")) aug_tool_usage(t, "cannot read a mesh from stdin: give a .msh file");
     if (!o->output) o->output = "all";
+    /* the rest (groups, selections, 2-D/3-D) is checked against the mesh */
+    aug_tool_cmdline_end(t);
 }
 
 /* the named set, reported as a usage error when missing or empty */

@@ -1,11 +1,12 @@
 /* refine: a cut stream -> the same stream with every cut step's elements re-meshed
    (conditional Delaunay + bisection, thesis 003 ACDM) and folded into one MDLT,
    BDLT and UPDT per step, plus qUAl and tIMe (tag refine). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "augcut.h"
-#include "cli/aug_tool.h"
+#include "cli/aug_opt.h"
 
 static const char *synopsis =
     "refine [FILE] [--max-aspect A] [--area-ratio R] [--min-angle DEG] [--no-flip]\n"
@@ -36,53 +37,22 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
     aug_refine_opt_default(&o->opt);
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        double x;
-        long n;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            printf("usage: %s\n%s", synopsis, help);
-            exit(0);
-        } else if (!strcmp(a, "--max-aspect")) {
-            if (!v || aug_parse_double(v, &x) || !(x == 0 || x >= 1.2))
-                aug_tool_usage(t, "--max-aspect needs a number >= 1.2 (0: off)");
-            else o->opt.max_aspect = x;
-            i += v != NULL;
-        } else if (!strcmp(a, "--area-ratio")) {
-            if (!v || aug_parse_double(v, &x) || !(x >= 0 && x < 1))
-                aug_tool_usage(t, "--area-ratio needs a number in [0, 1)");
-            else o->opt.area_ratio = x;
-            i += v != NULL;
-        } else if (!strcmp(a, "--min-angle")) {
-            if (!v || aug_parse_double(v, &x) || !(x >= 0 && x <= 30))
-                aug_tool_usage(t, "--min-angle needs degrees in [0, 30]");
-            else o->opt.min_angle = x;
-            i += v != NULL;
-        } else if (!strcmp(a, "--max-aspect3")) {
-            if (!v || aug_parse_double(v, &x) || !(x == 0 || x >= 1))
-                aug_tool_usage(t, "--max-aspect3 needs a number >= 1 (0: off)");
-            else o->opt.max_aspect3 = x;
-            i += v != NULL;
-        } else if (!strcmp(a, "--min-dihedral")) {
-            if (!v || aug_parse_double(v, &x) || !(x >= 0 && x < 70))
-                aug_tool_usage(t, "--min-dihedral needs degrees in [0, 70)");
-            else o->opt.min_dihedral = x;
-            i += v != NULL;
-        } else if (!strcmp(a, "--levels3")) {
-            if (!v || aug_parse_long(v, &n) || n < 0 || n > 20)
-                aug_tool_usage(t, "--levels3 needs a count from 0 to 20");
-            else o->opt.max_level3 = (int)n;
-            i += v != NULL;
-        } else if (!strcmp(a, "--max-new")) {
-            if (!v || aug_parse_long(v, &n) || n < 1) aug_tool_usage(t, "--max-new needs a count >= 1");
-            else o->opt.max_new = n;
-            i += v != NULL;
-        } else if (!strcmp(a, "--no-flip")) o->opt.flip = 0;
-        else if (!strcmp(a, "--deflate")) o->deflate = 1;
-        else if (a[0] == '-' && a[1]) aug_tool_usage(t, "unknown option %s", a);
-        else if (o->file) aug_tool_usage(t, "more than one input file (%s, %s)", o->file, a);
-        else o->file = a;
-    }
+    aug_refine_opt *r = &o->opt;
+    const aug_opt opt[] = {
+        {AUG_OPT_REAL("--max-aspect", &r->max_aspect, 1.2, HUGE_VAL, "a number >= 1.2 (0: off)"),
+         .flags = AUG_OPT_ZERO},
+        {AUG_OPT_REAL("--area-ratio", &r->area_ratio, 0, 1, "a number in [0, 1)"), .flags = AUG_OPT_HI_OPEN},
+        {AUG_OPT_REAL("--min-angle", &r->min_angle, 0, 30, "degrees in [0, 30]")},
+        {AUG_OPT_REAL("--max-aspect3", &r->max_aspect3, 1, HUGE_VAL, "a number >= 1 (0: off)"),
+         .flags = AUG_OPT_ZERO},
+        {AUG_OPT_REAL("--min-dihedral", &r->min_dihedral, 0, 70, "degrees in [0, 70)"),
+         .flags = AUG_OPT_HI_OPEN},
+        {AUG_OPT_INT("--levels3", &r->max_level3, 0, 20, "a count from 0 to 20")},
+        {AUG_OPT_INT("--max-new", &r->max_new, 1, INT64_MAX, "a count >= 1")},
+        {AUG_OPT_FLAG("--no-flip", &r->flip), .flags = AUG_OPT_CLEAR},
+        {AUG_OPT_FLAG("--deflate", &o->deflate)},
+    };
+    aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     aug_tool_usage_done(t, synopsis);
 }
 

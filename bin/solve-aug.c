@@ -6,7 +6,7 @@
 #include <string.h>
 #include "aug_cut.h"
 #include "aug_solve.h"
-#include "cli/aug_tool.h"
+#include "cli/aug_opt.h"
 
 static const char *synopsis =
     "solve-aug [FILE] [--method LIST] [--check] [--background] [--bg-lag N]\n"
@@ -50,90 +50,54 @@ typedef struct options {
     int time_full;
 } options;
 
+static const aug_word precs[] = {
+    {"none", AUG_PREC_NONE}, {"D", AUG_PREC_D}, {"spai", AUG_PREC_SPAI}, {NULL, 0}};
+static const aug_word singular[] = {{"error", 0}, {"report", 1}, {NULL, 0}};
+static const aug_word reaches[] = {{"path", 0}, {"cholmod", 1}, {NULL, 0}};
+
+/* --method LIST: the methods in order */
+static int methods(aug_tool *t, const char *opt, const char *val, void *dst)
+{
+    aug_solver_opts *so = dst;
+    int k = aug_parse_methods(val, so->order);
+    (void)t, (void)opt;
+    if (k <= 0) return -1;
+    so->nmeth = k;
+    return 0;
+}
+
 static void parse(aug_tool *t, int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
     aug_solver_opts_default(&o->so);
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        long n;
-        double d;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            printf("usage: %s\n%s", synopsis, help);
-            exit(0);
-        } else if (!strcmp(a, "--method")) {
-            int k = v ? aug_parse_methods(v, o->so.order) : -1;
-            if (k <= 0) aug_tool_usage(t, "--method needs a comma list of amps,gmres,refactor,rowupdate,pcg");
-            else o->so.nmeth = k;
-            i += v != NULL;
-        } else if (!strcmp(a, "--check")) {
-            o->so.check = 1;
-        } else if (!strcmp(a, "--time-full")) {
-            o->time_full = 1;
-        } else if (!strcmp(a, "--background")) {
-            o->so.background = 1;
-        } else if (!strcmp(a, "--bg-lag")) {
-            if (!v || aug_parse_long(v, &n) || n < 1 || n > 1000000) aug_tool_usage(t, "--bg-lag needs a count >= 1");
-            else o->so.bg_lag = (int)n, o->so.background = 1;
-            i += v != NULL;
-        } else if (!strcmp(a, "--output")) {
-            if (!v || !*v) aug_tool_usage(t, "--output needs all, surface or a set name");
-            else o->output = v;
-            i += v != NULL;
-        } else if (!strcmp(a, "--refine-iter")) {
-            if (!v || aug_parse_long(v, &n) || n < 0 || n > 100) aug_tool_usage(t, "--refine-iter needs 0 to 100");
-            else o->so.refine_iter = (int)n;
-            i += v != NULL;
-        } else if (!strcmp(a, "--refine-tol") || !strcmp(a, "--fail-tol") || !strcmp(a, "--amps-target")) {
-            if (!v || aug_parse_double(v, &d) || !(d >= 0 && d < 1)) aug_tool_usage(t, "%s needs a number in [0, 1)", a);
-            else if (a[2] == 'r') o->so.refine_tol = d, o->so.refine_max = d > 0 ? 3 : 0;
-            else if (a[2] == 'a') o->so.amps_target = d;
-            else o->so.fail_tol = d;
-            i += v != NULL;
-        } else if (!strcmp(a, "--tol")) {
-            if (!v || aug_parse_double(v, &d) || !(d > 0 && d < 1)) aug_tool_usage(t, "--tol needs a number in (0, 1)");
-            else o->so.tol = d;
-            i += v != NULL;
-        } else if (!strcmp(a, "--maxit")) {
-            if (!v || aug_parse_long(v, &n) || n < 1 || n > 100000000) aug_tool_usage(t, "--maxit needs a count >= 1");
-            else o->so.maxit = (int)n;
-            i += v != NULL;
-        } else if (!strcmp(a, "--restart")) {
-            if (!v || aug_parse_long(v, &n) || n < 1 || n > 10000) aug_tool_usage(t, "--restart needs 1 to 10000");
-            else o->so.restart = (int)n;
-            i += v != NULL;
-        } else if (!strcmp(a, "--spare")) {
-            if (!v || aug_parse_long(v, &n) || n < 1 || n > 100000000) aug_tool_usage(t, "--spare needs a count >= 1");
-            else o->so.spare = n;
-            i += v != NULL;
-        } else if (!strcmp(a, "--gmres-prec")) {
-            if (v && !strcmp(v, "none")) o->so.gmres_prec = AUG_PREC_NONE;
-            else if (v && !strcmp(v, "D")) o->so.gmres_prec = AUG_PREC_D;
-            else if (v && !strcmp(v, "spai")) o->so.gmres_prec = AUG_PREC_SPAI;
-            else aug_tool_usage(t, "--gmres-prec needs none, D or spai");
-            i += v != NULL;
-        } else if (!strcmp(a, "--on-singular")) {
-            if (v && !strcmp(v, "error")) o->on_singular_report = 0;
-            else if (v && !strcmp(v, "report")) o->on_singular_report = 1;
-            else aug_tool_usage(t, "--on-singular needs error or report");
-            i += v != NULL;
-        } else if (!strcmp(a, "--reach")) {
-            if (v && !strcmp(v, "path")) o->so.reach_cholmod = 0;
-            else if (v && !strcmp(v, "cholmod")) o->so.reach_cholmod = 1;
-            else aug_tool_usage(t, "--reach needs path or cholmod");
-            i += v != NULL;
-        } else if (!strcmp(a, "--threads")) {
-            if (!v || aug_parse_long(v, &n) || n < 1 || n > 1024) aug_tool_usage(t, "--threads needs 1 to 1024");
-            else o->so.nthreads = (int)n;
-            i += v != NULL;
-        } else if (a[0] == '-' && a[1]) {
-            aug_tool_usage(t, "unknown option %s", a);
-        } else if (o->file) {
-            aug_tool_usage(t, "more than one input file");
-        } else {
-            o->file = a;
-        }
-    }
+    aug_solver_opts *so = &o->so;
+    int nlag = 0, nrtol = 0;
+    const aug_opt opt[] = {
+        {AUG_OPT_CALL("--method", methods, so, "a comma list of amps,gmres,refactor,rowupdate,pcg")},
+        {AUG_OPT_FLAG("--check", &so->check)},
+        {AUG_OPT_FLAG("--time-full", &o->time_full)},
+        {AUG_OPT_FLAG("--background", &so->background)},
+        {AUG_OPT_INT("--bg-lag", &so->bg_lag, 1, 1000000, "a count >= 1"), .given = &nlag},
+        {AUG_OPT_STRING("--output", &o->output, "all, surface or a set name"), .flags = AUG_OPT_NONEMPTY},
+        {AUG_OPT_INT("--refine-iter", &so->refine_iter, 0, 100, "0 to 100")},
+        {AUG_OPT_REAL("--refine-tol", &so->refine_tol, 0, 1, "a number in [0, 1)"),
+         .flags = AUG_OPT_HI_OPEN, .given = &nrtol},
+        {AUG_OPT_REAL("--fail-tol", &so->fail_tol, 0, 1, "a number in [0, 1)"), .flags = AUG_OPT_HI_OPEN},
+        {AUG_OPT_REAL("--amps-target", &so->amps_target, 0, 1, "a number in [0, 1)"),
+         .flags = AUG_OPT_HI_OPEN},
+        {AUG_OPT_REAL("--tol", &so->tol, 0, 1, "a number in (0, 1)"),
+         .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
+        {AUG_OPT_INT("--maxit", &so->maxit, 1, 100000000, "a count >= 1")},
+        {AUG_OPT_INT("--restart", &so->restart, 1, 10000, "1 to 10000")},
+        {AUG_OPT_INT("--spare", &so->spare, 1, 100000000, "a count >= 1")},
+        {AUG_OPT_CHOICE("--gmres-prec", &so->gmres_prec, precs, "none, D or spai")},
+        {AUG_OPT_CHOICE("--on-singular", &o->on_singular_report, singular, "error or report")},
+        {AUG_OPT_CHOICE("--reach", &so->reach_cholmod, reaches, "path or cholmod")},
+        {AUG_OPT_THREADS(&so->nthreads)},
+    };
+    aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
+    if (nlag) so->background = 1;
+    if (nrtol) so->refine_max = so->refine_tol > 0 ? 3 : 0;
     aug_tool_usage_done(t, synopsis);
 }
 
@@ -212,7 +176,7 @@ int main(int argc, char **argv)
     memset(&rec, 0, sizeof rec);
     aug_tool_init(&t, "solve-aug", argc, argv);
     parse(&t, argc, argv, &o);
-    aug_set_threads(o.so.nthreads);
+    aug_tool_threads(&t, o.so.nthreads);
     aug_tool_open_in(&t, o.file);
     aug_tool_open_out(&t);
     aug_replay_init(&rp);

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "augcut.h"
-#include "cli/aug_tool.h"
+#include "cli/aug_opt.h"
 
 static const char *synopsis =
     "stats [--dump [--no-times] | --csv | --vtk FILE.vtu [--step S]] [FILE]";
@@ -30,44 +30,21 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
     o->step = -1;
-    const char *steparg = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            printf("usage: %s\n%s", synopsis, help);
-            exit(0);
-        } else if (!strcmp(a, "--dump")) {
-            o->dump = 1;
-        } else if (!strcmp(a, "--no-times")) {
-            o->no_times = 1;
-        } else if (!strcmp(a, "--csv")) {
-            o->csv = 1;
-        } else if (!strcmp(a, "--vtk") || !strcmp(a, "--step")) {
-            if (i + 1 >= argc) {
-                aug_tool_usage(t, "%s needs a value", a);
-                continue;
-            }
-            if (!strcmp(a, "--vtk")) {
-                if (o->vtk) aug_tool_usage(t, "--vtk given twice");
-                o->vtk = argv[++i];
-                if (!o->vtk[0]) aug_tool_usage(t, "--vtk: empty file name");
-            } else {
-                steparg = argv[++i];
-                if (aug_parse_long(steparg, &o->step) || o->step < 0 || o->step > INT32_MAX)
-                    aug_tool_usage(t, "--step %s: not a step number (0, 1, ...)", steparg);
-            }
-        } else if (a[0] == '-' && a[1]) {
-            aug_tool_usage(t, "unknown option %s", a);
-        } else if (o->file) {
-            aug_tool_usage(t, "only one input stream, not %s as well", a);
-        } else {
-            o->file = a;
-        }
-    }
+    int nstep = 0;
+    const aug_opt opt[] = {
+        {AUG_OPT_FLAG("--dump", &o->dump)},
+        {AUG_OPT_FLAG("--no-times", &o->no_times)},
+        {AUG_OPT_FLAG("--csv", &o->csv)},
+        {AUG_OPT_STRING("--vtk", &o->vtk, "a value"), .bad = "empty file name",
+         .flags = AUG_OPT_ONCE | AUG_OPT_NONEMPTY},
+        {AUG_OPT_INT("--step", &o->step, 0, INT32_MAX, "a value"), .bad = "not a step number (0, 1, ...)",
+         .given = &nstep},
+    };
+    aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (o->dump + o->csv + (o->vtk != NULL) > 1)
         aug_tool_usage(t, "--dump, --csv and --vtk exclude each other");
     if (o->no_times && !o->dump) aug_tool_usage(t, "--no-times goes with --dump");
-    if (steparg && !o->vtk) aug_tool_usage(t, "--step goes with --vtk");
+    if (nstep && !o->vtk) aug_tool_usage(t, "--step goes with --vtk");
     aug_tool_usage_done(t, synopsis);
 }
 

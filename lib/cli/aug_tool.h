@@ -1,5 +1,7 @@
 /* Command-line side shared by the tools: messages, exit codes, stream set-up.
-   Unlike lib/, this code prints to stderr and exits. */
+   Unlike lib/, this code prints to stderr and exits: 2 = usage (the command
+   line alone is wrong), 1 = data (the input is bad, or an option disagrees
+   with it, e.g. a group or set the input does not have). */
 #ifndef AUG_TOOL_H
 #define AUG_TOOL_H
 
@@ -14,12 +16,20 @@ typedef struct aug_tool {
     int argc;
     char **argv;
     int usage_errors;
+    int cmdline_errors;   /* usage_errors when the command line's own checks ended */
+    int cmdline_ended;
 } aug_tool;
 
 void aug_tool_init(aug_tool *t, const char *prog, int argc, char **argv);
-/* Report one usage error (counted); all are reported before exiting. */
+/* Report one error of the command line, or after aug_tool_cmdline_end of an
+   option checked against the input (counted); all are reported before exiting. */
 void aug_tool_usage(aug_tool *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-/* Exit 2 with the synopsis if usage errors were reported. */
+/* The command line's own checks are over: errors reported from now on are
+   options checked against the input (data errors). A tool that checks its
+   options only on the command line need not call it. */
+void aug_tool_cmdline_end(aug_tool *t);
+/* If errors were reported: with any of the command line itself, the synopsis
+   and exit 2; with only options that disagree with the input, exit 1. */
 void aug_tool_usage_done(aug_tool *t, const char *synopsis);
 /* Open the input stream (path NULL or "-": stdin); dies on error. */
 void aug_tool_open_in(aug_tool *t, const char *path);
@@ -44,8 +54,9 @@ int aug_parse_double(const char *s, double *v);
    parsing, before any input is read: when OMP_THREAD_LIMIT is not set, the
    tool re-executes itself once with OMP_THREAD_LIMIT=nthreads (libgomp reads
    it only at start-up, and CHOLMOD's fixed-size OpenMP teams otherwise
-   oversubscribe the cores); an OMP_THREAD_LIMIT set by the user is kept. Then
-   aug_set_threads(nthreads). */
+   oversubscribe the cores); an OMP_THREAD_LIMIT set by the user is kept, and
+   under valgrind there is no re-execution (valgrind would lose the child).
+   Then aug_set_threads(nthreads). Every tool taking --threads calls it. */
 void aug_tool_threads(aug_tool *t, int nthreads);
 
 #endif

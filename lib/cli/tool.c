@@ -34,9 +34,16 @@ void aug_tool_usage(aug_tool *t, const char *fmt, ...)
     t->usage_errors++;
 }
 
+void aug_tool_cmdline_end(aug_tool *t)
+{
+    t->cmdline_errors = t->usage_errors;
+    t->cmdline_ended = 1;
+}
+
 void aug_tool_usage_done(aug_tool *t, const char *synopsis)
 {
     if (!t->usage_errors) return;
+    if (t->cmdline_ended && !t->cmdline_errors) exit(1);
     fprintf(stderr, "usage: %s\n", synopsis);
     exit(2);
 }
