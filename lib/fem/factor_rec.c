@@ -107,8 +107,8 @@ static void sink_put(sink *k, const void *p, size_t n, size_t size)
 /* Supernodal LL' written as LDL' without converting L: column j = k1 + jj of
    supernode s holds rows Ls[pi + jj ..] and values Lx[px + jj*nsrow + jj ..];
    D(j,j) = L(j,j)^2 and L_ldl(i,j) = L(i,j) / L(j,j) (what cholmod_change_factor
-   computes). Returns 1 when the supernodal rows are not increasing (the caller
-   converts instead). */
+   computes, [CHOLMOD] cholmod_change_factor). Returns 1 when the supernodal
+   rows are not increasing (the caller converts instead). */
 static int write_supernodal(aug_writer *w, const cholmod_factor *L, aug_err *e)
 {
     long idx = aug_writer_count(w);

@@ -82,6 +82,7 @@ const aug_set *aug_mesh_set(const aug_mesh *m, const char *name)
     return NULL;
 }
 
+/* map[dof] = free index 0, 1, ... in dof order, -1 for constrained (FIXD) dofs; returns nfree */
 int64_t aug_dofmap(const aug_mesh *m, int32_t *map)
 {
     int64_t nd = m->nn * m->dim, k = 0;

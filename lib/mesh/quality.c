@@ -58,7 +58,7 @@ static void tri_quality(const aug_mesh *m, int64_t e, aug_quality *q)
     }
     q->measure = aug_elem_measure(m, e);
     q->edge_ratio = emax / emin;
-    q->aspect = q->edge_ratio; /* thesis 003, sec. 3.3: longest / shortest edge */
+    q->aspect = q->edge_ratio; /* thesis 003 eq. 3.10, sec. 3.2.2: longest / shortest edge */
     q->min_angle = amin;
 }
 
