@@ -72,6 +72,8 @@ int aug_mesh_write(aug_writer *w, const aug_mesh *m, aug_err *e);
 
 /* Position of v in the strictly increasing a[0..n), -1 if absent. */
 int64_t aug_find_i32(const int32_t *a, int64_t n, int32_t v);
+/* qsort/bsearch comparison of two int32 (ascending). */
+int aug_cmp_i32(const void *a, const void *b);
 
 /* Find a named set; NULL if absent. */
 const aug_set *aug_mesh_set(const aug_mesh *m, const char *name);

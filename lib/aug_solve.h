@@ -9,9 +9,6 @@
 #include <cholmod.h>
 #include "aug_update.h"
 
-/* Monotonic wall clock in ms (wallclock.c). */
-double aug_wall_ms(void);
-
 /* ---- cumulative update (cutmat.c) -------------------------------------- */
 
 /* K_t = Kbar - P_S Ebar P_S', f_t = [f_b; 0] + P_S dF, relative to a base
@@ -392,8 +389,5 @@ const aug_kv *aug_solver_time(const aug_solver *s, int method);
 double aug_solver_full_solve_ms(aug_solver *s, int reps);
 int aug_solver_singular(const aug_solver *s, int method);
 int aug_solver_converged(const aug_solver *s, int method);
-/* f_t of the current step (length n). */
-const double *aug_solver_rhs(const aug_solver *s);
-const aug_cutmat *aug_solver_cutmat(const aug_solver *s);
 
 #endif

@@ -40,8 +40,6 @@ void aug_tool_die(aug_tool *t, const char *fmt, ...) __attribute__((noreturn, fo
 int aug_parse_doubles(const char *s, double *v, int n);
 int aug_parse_long(const char *s, long *v);
 int aug_parse_double(const char *s, double *v);
-/* Wall clock in seconds (monotonic). */
-double aug_now(void);
 
 /* Threads of CHOLMOD/OpenBLAS (nthreads <= 0: 1). Call right after option
    parsing, before any input is read: when OMP_THREAD_LIMIT is not set, the

@@ -5,7 +5,6 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 #include "aug_tool.h"
 
@@ -163,9 +162,3 @@ int aug_parse_double(const char *s, double *v)
     return aug_parse_doubles(s, v, 1);
 }
 
-double aug_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}

@@ -71,12 +71,6 @@ static void stiffness(const aug_mesh *A, const int32_t *conn, int32_t mat, doubl
     aug_elem_stiffness(&t, 0, Ke);
 }
 
-static int cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
 typedef struct hent {
     int64_t idx;
     int32_t dof;
@@ -150,7 +144,7 @@ int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const in
             el[nel++] = (int32_t)i;
         }
     }
-    qsort(el, (size_t)nel, sizeof *el, cmp_i32);
+    qsort(el, (size_t)nel, sizeof *el, aug_cmp_i32);
     {
         int64_t w = 0;
         for (int64_t i = 0; i < nel; i++)

@@ -6,12 +6,6 @@
 #include <cblas.h>
 #include "aug_solve.h"
 
-static int cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
 /* parent[j] = min row index of L(:,j) below the diagonal */
 static void etree_of(aug_base *b)
 {
@@ -194,7 +188,7 @@ int64_t aug_ldl_closure(const aug_base *b, const int32_t *start, int64_t ns, int
             out[k++] = v;
         }
     for (int64_t i = 0; i < k; i++) mark[out[i]] = 0;
-    qsort(out, (size_t)k, sizeof *out, cmp_i32);
+    qsort(out, (size_t)k, sizeof *out, aug_cmp_i32);
     return k;
 }
 
