@@ -375,8 +375,10 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
                            const aug_solver_opts *o, cholmod_common *cm, aug_err *e);
 void aug_solver_free(aug_solver *s);
 /* One cut step: apply u, run every method. out: requested DOFs of K_t (NULL:
-   all). Returns 0, or an error (data errors, out of memory); a singular step is
-   not an error: see aug_solver_singular. */
+   all). Returns 0, or an error (data errors, out of memory, a failed background
+   re-factorization); a singular step is not an error: see aug_solver_singular
+   (nor is the background's failure to factor the matrix of a step some method
+   reported singular or not converged: the base stays). */
 int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int64_t nout,
                     int flags, aug_err *e);
 int64_t aug_solver_n(const aug_solver *s);
