@@ -182,6 +182,17 @@ static void refinement_counted(void)
     gsl_rng_free(r);
 }
 
+/* step 1 orphans a node: K_t singular */
+static void orphan_step(gen *g, aug_update *u)
+{
+    gen_snap sn;
+    gen_snapshot(g, &sn);
+    gen_cut_node(g, 3 * 4 * 4 + 4 + 1, 1.5, 1);
+    gen_assemble(g);
+    gen_diff(g, sn.K, sn.ld, sn.f, sn.n, 1, u);
+    gen_snap_free(&sn);
+}
+
 /* an orphaned node: every method reports the step singular, none returns a field */
 static void singular_reported(void)
 {
@@ -194,13 +205,8 @@ static void singular_reported(void)
     o.nmeth = aug_parse_methods("amps,gmres,refactor,rowupdate,pcg", o.order);
     o.maxit = 2000;
     aug_solver *s = make(&g, &o);
-    gen_snap sn;
-    gen_snapshot(&g, &sn);
-    gen_cut_node(&g, 3 * 4 * 4 + 4 + 1, 1.5, 1);
-    gen_assemble(&g);
     aug_update u;
-    gen_diff(&g, sn.K, sn.ld, sn.f, sn.n, 1, &u);
-    gen_snap_free(&sn);
+    orphan_step(&g, &u);
     aug_err e;
     T_CHECK(aug_solver_step(s, &u, NULL, 0, 0, &e) == 0, "%s", e.msg);
     aug_update_free(&u);
@@ -229,26 +235,27 @@ static void diag_update(aug_update *u, int32_t step, int32_t i, double c)
     u->H[0] = i, u->E[0] = c;
 }
 
+/* methods on a 3x3x4 mesh with a background job joined one step after it starts */
+static aug_solver *lag1_session(gen *g, gsl_rng *r, unsigned long seed, const char *methods)
+{
+    gsl_rng_set(r, seed);
+    gen_init(g, 3, 3, 4, 1.0, r);
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = aug_parse_methods(methods, o.order);
+    o.background = 1, o.bg_lag = 1;
+    return make(g, &o);
+}
+
 /* the background factors the matrix of a step AMPS reported singular: the
    failed job leaves the base, the steps go on without an error */
 static void background_singular_step(void)
 {
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-    gsl_rng_set(r, 71);
     gen g;
-    gen_init(&g, 3, 3, 4, 1.0, r);
-    aug_solver_opts o;
-    aug_solver_opts_default(&o);
-    o.nmeth = aug_parse_methods("amps", o.order);
-    o.background = 1, o.bg_lag = 1;
-    aug_solver *s = make(&g, &o);
-    gen_snap sn;
-    gen_snapshot(&g, &sn);
-    gen_cut_node(&g, 3 * 4 * 4 + 4 + 1, 1.5, 1);
-    gen_assemble(&g);
+    aug_solver *s = lag1_session(&g, r, 71, "amps");
     aug_update u;
-    gen_diff(&g, sn.K, sn.ld, sn.f, sn.n, 1, &u);
-    gen_snap_free(&sn);
+    orphan_step(&g, &u);
     aug_err e;
     T_CHECK(s && aug_solver_step(s, &u, NULL, 0, 0, &e) == 0, "step 1: %s", e.msg);
     aug_update_free(&u);
@@ -269,14 +276,8 @@ static void background_singular_step(void)
 static void background_failure_reported(void)
 {
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-    gsl_rng_set(r, 81);
     gen g;
-    gen_init(&g, 3, 3, 4, 1.0, r);
-    aug_solver_opts o;
-    aug_solver_opts_default(&o);
-    o.nmeth = aug_parse_methods("gmres", o.order);
-    o.background = 1, o.bg_lag = 1;
-    aug_solver *s = make(&g, &o);
+    aug_solver *s = lag1_session(&g, r, 81, "gmres");
     aug_update u;
     aug_err e;
     diag_update(&u, 1, 0, 2 * g.K[0]);
