@@ -130,8 +130,6 @@ int32_t aug_edit_node(aug_edit *ed, const double *x, int32_t parent);
 int aug_edit_set(aug_edit *ed, int64_t elem, const int32_t *conn);
 /* Append an element: its index or -1. */
 int64_t aug_edit_elem(aug_edit *ed, const int32_t *conn, int32_t mat);
-/* Signed measure of an element of the edited mesh. */
-double aug_edit_measure(const aug_edit *ed, int64_t elem);
 /* The step as an MDLT (d->elem: elements whose connectivity changed, increasing)
    and their old connectivity (*oldconn, malloc'd); restores the mesh arrays. */
 int aug_edit_end(aug_edit *ed, int32_t step, aug_mdelta *d, int32_t **oldconn, aug_err *e);
@@ -242,7 +240,6 @@ void aug_curve_deriv(const aug_curve *c, double t, double dxy[2]);
    increasing; returns their count (<= 3), -1 when the curve lies on the line. */
 int aug_curve_line_roots(const aug_curve *c, const double a[2], const double b[2], double t0,
                          double t1, double t[3]);
-double aug_curve_length(const aug_curve *c);
 
 typedef struct aug_path {
     int n;
@@ -258,20 +255,30 @@ void aug_path_free(aug_path *p);
 /* Curve parameter at arc length s within curve i. */
 double aug_path_param(const aug_path *p, int i, double s);
 
-/* Pending cut edges: node pairs to be separated. */
-typedef struct aug_edgeset {
-    int64_t n, cap;
-    int64_t *key;                /* open addressing; -1 empty, -2 deleted */
-} aug_edgeset;
-int aug_edgeset_add(aug_edgeset *s, int32_t a, int32_t b);
-int aug_edgeset_has(const aug_edgeset *s, int32_t a, int32_t b);
-void aug_edgeset_del(aug_edgeset *s, int32_t a, int32_t b);
-void aug_edgeset_free(aug_edgeset *s);
+/* ---- Edge map (edgemap.c): unordered node pair -> two int32 slots, open
+   addressing; a zeroed map is empty. As a set: put, get != NULL, del. ---- */
+typedef struct aug_edgemap {
+    uint64_t *key;      /* ((uint64)min << 32 | max) + 1; 0 empty, UINT64_MAX deleted */
+    int32_t *val;       /* 2 per entry */
+    size_t cap, n, used;
+} aug_edgemap;
+int aug_edgemap_init(aug_edgemap *h, size_t hint);
+void aug_edgemap_free(aug_edgemap *h);
+void aug_edgemap_clear(aug_edgemap *h);
+/* The two slots of edge {a, b}, NULL when absent. */
+int32_t *aug_edgemap_get(const aug_edgemap *h, int32_t a, int32_t b);
+/* The slots of {a, b}, inserted as {-1, -1} when absent; NULL when out of memory. */
+int32_t *aug_edgemap_put(aug_edgemap *h, int32_t a, int32_t b);
+void aug_edgemap_del(aug_edgemap *h, int32_t a, int32_t b);
+/* Add v to the first free slot of {a, b} (0), -1 memory, -2 both slots taken. */
+int aug_edgemap_link(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
+/* Remove v from the slots of {a, b}; deletes the entry when both are free. */
+void aug_edgemap_unlink(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
 
 /* Split mode surgery on tri3 meshes: insert a node on edge (a, b) at parameter
    s (0 < s < 1) splitting both triangles that share the edge, or inside
    triangle t at barycentric l. Cut edges through the split edge follow it. */
-int32_t aug_split_edge(aug_edit *ed, aug_edgeset *cut, int32_t a, int32_t b, double s,
+int32_t aug_split_edge(aug_edit *ed, aug_edgemap *cut, int32_t a, int32_t b, double s,
                        aug_err *e);
 int32_t aug_split_tri(aug_edit *ed, int64_t t, const double l[3], aug_err *e);
 
@@ -284,7 +291,7 @@ typedef struct aug_path_cut {
     int32_t node;                /* walk state: current node, -1 outside the mesh */
     int curve;                   /* curve of the walk state */
     double t;
-    aug_edgeset cut;             /* the cut edges (node pairs) realised so far */
+    aug_edgemap cut;             /* the cut edges (node pairs) realised so far */
     int32_t *twin;               /* copies of the state node made by the last step */
     int64_t ntwin;
 } aug_path_cut;

@@ -6,26 +6,7 @@
 #ifndef AUG_REFINE_H
 #define AUG_REFINE_H
 
-#include "aug_update.h"
-
-/* ---- Edge map: unordered node pair -> two int32 slots (open addressing) ---- */
-typedef struct aug_edgemap {
-    uint64_t *key;      /* ((uint64)min << 32 | max) + 1; 0 empty, UINT64_MAX deleted */
-    int32_t *val;       /* 2 per entry */
-    size_t cap, n, used;
-} aug_edgemap;
-int aug_edgemap_init(aug_edgemap *h, size_t hint);
-void aug_edgemap_free(aug_edgemap *h);
-void aug_edgemap_clear(aug_edgemap *h);
-/* The two slots of edge {a, b}, NULL when absent. */
-int32_t *aug_edgemap_get(const aug_edgemap *h, int32_t a, int32_t b);
-/* The slots of {a, b}, inserted as {-1, -1} when absent; NULL when out of memory. */
-int32_t *aug_edgemap_put(aug_edgemap *h, int32_t a, int32_t b);
-void aug_edgemap_del(aug_edgemap *h, int32_t a, int32_t b);
-/* Add v to the first free slot of {a, b} (0), -1 memory, -2 both slots taken. */
-int aug_edgemap_link(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
-/* Remove v from the slots of {a, b}; deletes the entry when both are free. */
-void aug_edgemap_unlink(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
+#include "aug_cut.h"
 
 /* ---- Local constrained Delaunay triangulation (cdt_local.c) ----
    A triangulated planar region (counter-clockwise triangles over its own vertex

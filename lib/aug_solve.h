@@ -9,9 +9,6 @@
 #include <cholmod.h>
 #include "aug_update.h"
 
-/* Monotonic wall clock in ms (wallclock.c). */
-double aug_wall_ms(void);
-
 /* ---- cumulative update (cutmat.c) -------------------------------------- */
 
 /* K_t = Kbar - P_S Ebar P_S', f_t = [f_b; 0] + P_S dF, relative to a base
@@ -395,8 +392,10 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
                            const aug_solver_opts *o, cholmod_common *cm, aug_err *e);
 void aug_solver_free(aug_solver *s);
 /* One cut step: apply u, run every method. out: requested DOFs of K_t (NULL:
-   all). Returns 0, or an error (data errors, out of memory); a singular step is
-   not an error: see aug_solver_singular. */
+   all). Returns 0, or an error (data errors, out of memory, a failed background
+   re-factorization); a singular step is not an error: see aug_solver_singular
+   (nor is the background's failure to factor the matrix of a step some method
+   reported singular or not converged: the base stays). */
 int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int64_t nout,
                     int flags, aug_err *e);
 int64_t aug_solver_n(const aug_solver *s);
@@ -409,8 +408,5 @@ const aug_kv *aug_solver_time(const aug_solver *s, int method);
 double aug_solver_full_solve_ms(aug_solver *s, int reps);
 int aug_solver_singular(const aug_solver *s, int method);
 int aug_solver_converged(const aug_solver *s, int method);
-/* f_t of the current step (length n). */
-const double *aug_solver_rhs(const aug_solver *s);
-const aug_cutmat *aug_solver_cutmat(const aug_solver *s);
 
 #endif

@@ -48,6 +48,9 @@ int aug_err_set(aug_err *e, int code, long record, const char *type, const char 
     __attribute__((format(printf, 5, 6)));
 const char *aug_strerror(int code);
 
+/* Monotonic wall clock in seconds (clock.c). */
+double aug_now(void);
+
 /* Record flags (u32 in every record body). */
 #define AUG_FLAG_DEFLATE 1u   /* payload is zlib-deflated */
 #define AUG_NOSTEP (-1)        /* step value of records that are not per-step */

@@ -34,7 +34,7 @@ int aug_path_cut_init(aug_path_cut *pc, const aug_path *path, int mode, double t
 
 void aug_path_cut_free(aug_path_cut *pc)
 {
-    aug_edgeset_free(&pc->cut);
+    aug_edgemap_free(&pc->cut);
     free(pc->twin);
     memset(pc, 0, sizeof *pc);
 }
@@ -125,7 +125,7 @@ static int add_seg(walk *w, int32_t a, int32_t b)
     w->sp[w->nsp * 2] = a;
     w->sp[w->nsp * 2 + 1] = b;
     w->nsp++;
-    if (aug_edgeset_add(&w->pc->cut, a, b) || add_cand(w, a) || add_cand(w, b)) return -1;
+    if (!aug_edgemap_put(&w->pc->cut, a, b) || add_cand(w, a) || add_cand(w, b)) return -1;
     return 0;
 }
 
@@ -159,7 +159,7 @@ static int32_t on_edge(walk *w, int32_t a, int32_t b, double s)
     if (w->pc->mode == AUG_PATH_SNAP) return s <= 0.5 ? a : b;
     if (s < w->pc->tol) return a;
     if (s > 1 - w->pc->tol) return b;
-    int was_cut = aug_edgeset_has(&w->pc->cut, a, b);
+    int was_cut = aug_edgemap_get(&w->pc->cut, a, b) != NULL;
     int32_t r = aug_split_edge(w->ed, &w->pc->cut, a, b, s, w->e);
     if (r >= 0 && ((was_cut && add_cand(w, r)) || split_seg(w, a, b, r))) {
         NOMEM();
@@ -398,13 +398,7 @@ static int cut_edge(void *ctx, const aug_edit *ed, int32_t a, int32_t b, const i
     (void)a;
     (void)b;
     const aug_path_cut *pc = ctx;
-    return nf == 2 && aug_edgeset_has(&pc->cut, f[0], f[1]);
-}
-
-static int cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
+    return nf == 2 && aug_edgemap_get(&pc->cut, f[0], f[1]) != NULL;
 }
 
 /* walk every curve overlapping arc lengths (s, s_to], then separate the nodes
@@ -465,7 +459,7 @@ int aug_path_step(aug_path_cut *pc, aug_edit *ed, double s_to, double **seg, int
     }
     /* separate: every node on a cut edge of this step or on a split cut edge */
     if (rc == 0 && w.ncand) {
-        qsort(w.cand, (size_t)w.ncand, sizeof *w.cand, cmp_i32);
+        qsort(w.cand, (size_t)w.ncand, sizeof *w.cand, aug_cmp_i32);
         int64_t k = 0;
         for (int64_t i = 0; i < w.ncand; i++)
             if (k == 0 || w.cand[k - 1] != w.cand[i]) w.cand[k++] = w.cand[i];

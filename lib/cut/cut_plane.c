@@ -233,7 +233,7 @@ int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg,
     aug_err_clear(e);
     int dim = pc->dim, nv = ed->m->nv;
     int64_t cap = *nseg;
-    aug_edgeset done = {0, 0, NULL};
+    aug_edgemap done = {0};
     if (pc->next >= pc->ncut)
         return aug_err_set(e, AUG_EDATA, -1, "MDLT", "all %lld cut nodes of the plane are cut",
                            (long long)pc->ncut);
@@ -254,8 +254,8 @@ int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg,
                 if (nf != nv - 1) continue;
                 for (int x = 0; x < nf; x++)
                     for (int y = x + 1; y < nf; y++) {
-                        if (aug_edgeset_has(&done, f[x], f[y])) continue;
-                        if (aug_edgeset_add(&done, f[x], f[y]) ||
+                        if (aug_edgemap_get(&done, f[x], f[y])) continue;
+                        if (!aug_edgemap_put(&done, f[x], f[y]) ||
                             push_seg(seg, nseg, &cap, aug_edit_x(ed, f[x]), aug_edit_x(ed, f[y]), dim))
                             goto nomem;
                     }
@@ -263,14 +263,14 @@ int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg,
         int nc;
         int rc = aug_separate_node(ed, p, cut_sides, rank_side, pc, &nc, e);
         if (rc) {
-            aug_edgeset_free(&done);
+            aug_edgemap_free(&done);
             return rc;
         }
     }
-    aug_edgeset_free(&done);
+    aug_edgemap_free(&done);
     return 0;
 nomem:
-    aug_edgeset_free(&done);
+    aug_edgemap_free(&done);
     return aug_err_set(e, AUG_ENOMEM, -1, "pATH", "out of memory");
 }
 

@@ -18,7 +18,7 @@ static int nfixed(const aug_edit *ed, int32_t q)
    (a, r, c) and (r, b, c), conforming (thesis 003 sec. 3.1.2); r's parent is the
    end with fewer constrained components (the nearer on ties); a cut edge ab
    becomes ar and rb */
-int32_t aug_split_edge(aug_edit *ed, aug_edgeset *cut, int32_t a, int32_t b, double s,
+int32_t aug_split_edge(aug_edit *ed, aug_edgemap *cut, int32_t a, int32_t b, double s,
                        aug_err *e)
 {
     aug_err_clear(e);
@@ -50,9 +50,9 @@ int32_t aug_split_edge(aug_edit *ed, aug_edgeset *cut, int32_t a, int32_t b, dou
         int32_t mat = aug_edit_mat(ed, tris[i]);
         if (aug_edit_set(ed, tris[i], c1) || aug_edit_elem(ed, c2, mat) < 0) goto nomem;
     }
-    if (cut && aug_edgeset_has(cut, a, b)) {
-        aug_edgeset_del(cut, a, b);
-        if (aug_edgeset_add(cut, a, r) || aug_edgeset_add(cut, r, b)) goto nomem;
+    if (cut && aug_edgemap_get(cut, a, b)) {
+        aug_edgemap_del(cut, a, b);
+        if (!aug_edgemap_put(cut, a, r) || !aug_edgemap_put(cut, r, b)) goto nomem;
     }
     return r;
 nomem:

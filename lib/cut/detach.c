@@ -119,6 +119,16 @@ static int reserve(aug_pieces *out, int64_t ne)
     return 0;
 }
 
+/* the k-th of the constrained DOFs, k < ncon(m, x): the mesh's, then the
+   extra ones; -1 for an extra one the mesh has already */
+static int64_t ncon(const aug_mesh *m, const aug_bdelta *x) { return m->nfix + (x ? x->nfix : 0); }
+static int32_t con_dof(const aug_mesh *m, const aug_bdelta *x, int64_t k)
+{
+    if (k < m->nfix) return m->fix_dof[k];
+    int32_t dof = x->fix_dof[k - m->nfix];
+    return aug_mesh_fixed(m, dof, NULL) ? -1 : dof;
+}
+
 /* one piece holding every element: do its constraints (m's and extra's) stop
    all rigid motions? 1 unsupported, 0 supported */
 static int single_unsupported(const aug_mesh *m, const aug_adj *adj, const aug_bdelta *extra)
@@ -127,16 +137,13 @@ static int single_unsupported(const aug_mesh *m, const aug_adj *adj, const aug_b
     /* centre and scale from the constrained nodes: the rank does not depend on
        them, the conditioning of the rows does */
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int src = 0; src < 2; src++) {
-        int64_t cnt = src == 0 ? m->nfix : (extra ? extra->nfix : 0);
-        for (int64_t k = 0; k < cnt; k++) {
-            int32_t i = (src == 0 ? m->fix_dof[k] : extra->fix_dof[k]) / dim;
-            if (i >= m->nn || adj->cnt[i] == 0) continue;
-            for (int c = 0; c < dim; c++) {
-                double x = m->x[(int64_t)i * dim + c];
-                if (x < lo[c]) lo[c] = x;
-                if (x > hi[c]) hi[c] = x;
-            }
+    for (int64_t k = 0; k < ncon(m, extra); k++) {
+        int32_t dof = con_dof(m, extra, k), i = dof / dim;
+        if (dof < 0 || i >= m->nn || adj->cnt[i] == 0) continue;
+        for (int c = 0; c < dim; c++) {
+            double x = m->x[(int64_t)i * dim + c];
+            if (x < lo[c]) lo[c] = x;
+            if (x > hi[c]) hi[c] = x;
         }
     }
     if (!(lo[0] <= hi[0])) return 1; /* no constraint at all */
@@ -148,17 +155,12 @@ static int single_unsupported(const aug_mesh *m, const aug_adj *adj, const aug_b
     }
     g.L = L2 > 0 ? sqrt(L2) : 1.0;
     memset(G, 0, sizeof G);
-    for (int src = 0; src < 2; src++) {
-        int64_t cnt = src == 0 ? m->nfix : (extra ? extra->nfix : 0);
-        for (int64_t k = 0; k < cnt; k++) {
-            int32_t dof = src == 0 ? m->fix_dof[k] : extra->fix_dof[k];
-            if (src == 1 && aug_mesh_fixed(m, dof, NULL)) continue;
-            int32_t i = dof / dim;
-            if (i >= m->nn || adj->cnt[i] == 0) continue;
-            relpos(m, &g, i, r);
-            rbm_row(dim, r, dof % dim, row);
-            outer(G, R, 0, 0, row, row, R, 1.0);
-        }
+    for (int64_t k = 0; k < ncon(m, extra); k++) {
+        int32_t dof = con_dof(m, extra, k), i = dof / dim;
+        if (dof < 0 || i >= m->nn || adj->cnt[i] == 0) continue;
+        relpos(m, &g, i, r);
+        rbm_row(dim, r, dof % dim, row);
+        outer(G, R, 0, 0, row, row, R, 1.0);
     }
     return !full_rank(G, R);
 }
@@ -196,31 +198,33 @@ static int cmp_first(const void *a, const void *b, void *ctx)
     return (x > y) - (x < y);
 }
 
-/* null space of the rigid motions r_P of all pieces P subject to
-   u_P(x_i)_c = 0 for constrained (i, c) and u_P(x_i) = u_Q(x_i) at shared nodes */
-int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn,
-                    const aug_bdelta *extra, aug_pieces *out, aug_err *e)
+/* the state of one analysis of several pieces (aug_detach_find) */
+typedef struct det {
+    const aug_mesh *m;
+    const aug_adj *adj;
+    const aug_facenbr *fn;
+    const aug_bdelta *extra;
+    aug_pieces *out;
+    int dim, R;                 /* R rigid motions per piece */
+    int64_t np;
+    geo *g;                     /* per piece: centre and scale of its rows */
+    double *G;                  /* per piece: R x R Gram matrix of its own constraints */
+    unsigned char *sup;         /* per piece: supported */
+    int64_t *pstart;            /* node i: its pieces plist[pstart[i] .. pstart[i+1]) */
+    int32_t *plist;
+    int32_t *uidx;              /* piece -> index among the unsupported ones, -1 */
+    int64_t nu;                 /* unsupported pieces */
+} det;
+
+/* face-connected pieces: union-find over face neighbours in one sweep
+   (queue[] holds the forest), pieces numbered by their least element; per
+   piece its least element and size */
+static int number_pieces(det *d)
 {
-    aug_err_clear(e);
-    int dim = m->dim, nv = m->nv, R = dim == 3 ? 6 : 3;
-    int64_t ne = m->ne, nn = m->nn;
-    int32_t *queue, *np_of = NULL, *plist = NULL, *uidx = NULL;
-    int64_t *pstart = NULL;
-    geo *g = NULL;
-    double *G = NULL, *big = NULL, *lam = NULL, *V = NULL;
-    unsigned char *sup = NULL;
-    int rc = 0;
-    free(out->bad);
-    free(out->first);
-    free(out->size);
-    out->bad = out->first = NULL;
-    out->size = NULL;
-    out->np = out->nbad = 0;
-    if (reserve(out, ne)) goto nomem;
-    queue = out->queue;
-    /* face-connected pieces: union-find over face neighbours in one sweep
-       (queue[] holds the forest), then pieces numbered by their least element */
-    int32_t *up = queue;
+    aug_pieces *out = d->out;
+    const aug_facenbr *fn = d->fn;
+    int64_t ne = d->m->ne;
+    int32_t *up = out->queue;
     for (int64_t i = 0; i < ne; i++) up[i] = (int32_t)i;
     for (int64_t el = 0; el < ne; el++) {
         const int32_t *nb = fn->nbr + el * fn->nf;
@@ -239,222 +243,283 @@ int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn
         while (up[a] != a) a = up[a];
         out->piece[el] = a == el ? (int32_t)np++ : out->piece[a];
     }
-    out->np = np;
+    d->np = out->np = np;
     out->first = aug_malloc((size_t)np * sizeof *out->first + 1);
     out->size = aug_calloc((size_t)np + 1, sizeof *out->size);
-    g = aug_calloc((size_t)np + 1, sizeof *g);
-    G = aug_calloc((size_t)(np * R * R) + 1, sizeof *G);
-    sup = aug_calloc((size_t)np + 1, 1);
-    if (!out->first || !out->size || !g || !G || !sup) goto nomem;
+    if (!out->first || !out->size) return -1;
     for (int64_t p = 0; p < np; p++) out->first[p] = -1;
-    /* per piece: least element, size, bounding box -> centre and scale */
-    double *lo = aug_malloc((size_t)(np * 6) * sizeof *lo + 1);
-    if (!lo) goto nomem;
-    for (int64_t p = 0; p < np * 3; p++) {
-        lo[p] = INFINITY;
-        lo[np * 3 + p] = -INFINITY;
-    }
-    if (np == 1) { /* the usual case: one piece, its box is the nodes' box */
-        out->first[0] = 0;
-        out->size[0] = ne;
-        for (int64_t i = 0; i < nn; i++)
-            for (int k = 0; k < dim; k++) {
-                double x = m->x[i * dim + k];
-                if (adj->cnt[i] == 0) continue;
-                if (x < lo[k]) lo[k] = x;
-                if (x > lo[3 + k]) lo[3 + k] = x;
-            }
-    }
-    for (int64_t el = 0; np > 1 && el < ne; el++) {
+    for (int64_t el = 0; el < ne; el++) {
         int32_t p = out->piece[el];
         if (out->first[p] < 0) out->first[p] = (int32_t)el;
         out->size[p]++;
+    }
+    return 0;
+}
+
+/* per piece: the centre and diagonal of its bounding box, to centre and
+   scale its rigid-motion rows */
+static int piece_geometry(det *d)
+{
+    const aug_mesh *m = d->m;
+    int64_t np = d->np;
+    int dim = m->dim, nv = m->nv;
+    d->g = aug_calloc((size_t)np + 1, sizeof *d->g);
+    double *lo = aug_malloc((size_t)(np * 6) * sizeof *lo + 1), *hi = lo + np * 3;
+    if (!d->g || !lo) {
+        free(lo);
+        return -1;
+    }
+    for (int64_t p = 0; p < np * 3; p++) lo[p] = INFINITY, hi[p] = -INFINITY;
+    for (int64_t el = 0; el < m->ne; el++) {
+        int32_t p = d->out->piece[el];
         for (int a = 0; a < nv; a++)
             for (int k = 0; k < dim; k++) {
                 double x = m->x[(int64_t)m->conn[el * nv + a] * dim + k];
                 if (x < lo[p * 3 + k]) lo[p * 3 + k] = x;
-                if (x > lo[np * 3 + p * 3 + k]) lo[np * 3 + p * 3 + k] = x;
+                if (x > hi[p * 3 + k]) hi[p * 3 + k] = x;
             }
     }
     for (int64_t p = 0; p < np; p++) {
         double L2 = 0;
         for (int k = 0; k < dim; k++) {
-            double a = lo[p * 3 + k], b = lo[np * 3 + p * 3 + k];
-            g[p].c[k] = 0.5 * (a + b);
+            double a = lo[p * 3 + k], b = hi[p * 3 + k];
+            d->g[p].c[k] = 0.5 * (a + b);
             L2 += (b - a) * (b - a);
         }
-        g[p].L = L2 > 0 ? sqrt(L2) : 1.0;
+        d->g[p].L = L2 > 0 ? sqrt(L2) : 1.0;
     }
     free(lo);
-    if (np == 1) { /* one piece: its own constraints decide */
-        out->bad = aug_malloc(sizeof *out->bad);
-        if (!out->bad) goto nomem;
-        if (single_unsupported(m, adj, extra)) out->bad[out->nbad++] = 0;
-        goto done;
-    }
-    /* pieces of each node (unique, increasing), as lists */
-    pstart = aug_malloc((size_t)(nn + 1) * sizeof *pstart);
-    if (!pstart) goto nomem;
-    int64_t tot = 0;
-    for (int64_t i = 0; i < nn; i++) tot += np > 1 ? adj->cnt[i] : adj->cnt[i] > 0;
-    plist = aug_malloc((size_t)tot * sizeof *plist + 1);
-    if (!plist) goto nomem;
+    return 0;
+}
+
+/* the pieces of each node (unique, increasing), as lists */
+static int node_pieces(det *d)
+{
+    const aug_adj *adj = d->adj;
+    int64_t nn = d->m->nn, tot = 0;
+    d->pstart = aug_malloc((size_t)(nn + 1) * sizeof *d->pstart);
+    if (!d->pstart) return -1;
+    for (int64_t i = 0; i < nn; i++) tot += adj->cnt[i];
+    int32_t *pl = d->plist = aug_malloc((size_t)tot * sizeof *d->plist + 1);
+    if (!pl) return -1;
     tot = 0;
     for (int64_t i = 0; i < nn; i++) {
-        pstart[i] = tot;
-        if (np == 1) {
-            if (adj->cnt[i] > 0) plist[tot++] = 0;
-            continue;
-        }
+        int64_t s = d->pstart[i] = tot;
         for (int32_t k = 0; k < adj->cnt[i]; k++) {
-            int32_t p = out->piece[adj->list[i][k]], dup = 0;
-            for (int64_t q = pstart[i]; q < tot && !dup; q++) dup = plist[q] == p;
-            if (!dup) plist[tot++] = p;
+            int32_t p = d->out->piece[adj->list[i][k]], dup = 0;
+            for (int64_t q = s; q < tot && !dup; q++) dup = pl[q] == p;
+            if (!dup) pl[tot++] = p;
         }
-        for (int64_t a = pstart[i] + 1; a < tot; a++)
-            for (int64_t b = a; b > pstart[i] && plist[b - 1] > plist[b]; b--) {
-                int32_t t = plist[b];
-                plist[b] = plist[b - 1];
-                plist[b - 1] = t;
+        for (int64_t a = s + 1; a < tot; a++)
+            for (int64_t b = a; b > s && pl[b - 1] > pl[b]; b--) {
+                int32_t t = pl[b];
+                pl[b] = pl[b - 1];
+                pl[b - 1] = t;
             }
     }
-    pstart[nn] = tot;
-    /* own constraints: the mesh's and the extra ones not already in the mesh */
-    double r[3], row[6], row2[6];
-    for (int src = 0; src < 2; src++) {
-        int64_t cnt = src == 0 ? m->nfix : (extra ? extra->nfix : 0);
-        for (int64_t k = 0; k < cnt; k++) {
-            int32_t dof = src == 0 ? m->fix_dof[k] : extra->fix_dof[k];
-            if (src == 1 && aug_mesh_fixed(m, dof, NULL)) continue;
-            int32_t i = dof / dim;
-            int c = dof % dim;
-            if (i >= nn) continue;
-            for (int64_t q = pstart[i]; q < pstart[i + 1]; q++) {
-                int32_t p = plist[q];
-                relpos(m, &g[p], i, r);
-                rbm_row(dim, r, c, row);
-                outer(G + (int64_t)p * R * R, R, 0, 0, row, row, R, 1.0);
-            }
+    d->pstart[nn] = tot;
+    return 0;
+}
+
+/* per piece P: G_P = sum r r' over the rigid-motion rows r of its constrained
+   (node, component) pairs, the mesh's and the extra ones not already in the
+   mesh; supported when G_P has full rank */
+static int own_constraints(det *d)
+{
+    const aug_mesh *m = d->m;
+    const aug_bdelta *extra = d->extra;
+    int dim = d->dim, R = d->R;
+    d->G = aug_calloc((size_t)(d->np * R * R) + 1, sizeof *d->G);
+    d->sup = aug_calloc((size_t)d->np + 1, 1);
+    if (!d->G || !d->sup) return -1;
+    double r[3], row[6];
+    for (int64_t k = 0; k < ncon(m, extra); k++) {
+        int32_t dof = con_dof(m, extra, k), i = dof / dim;
+        if (dof < 0 || i >= m->nn) continue;
+        for (int64_t q = d->pstart[i]; q < d->pstart[i + 1]; q++) {
+            int32_t p = d->plist[q];
+            relpos(m, &d->g[p], i, r);
+            rbm_row(dim, r, dof % dim, row);
+            outer(d->G + (int64_t)p * R * R, R, 0, 0, row, row, R, 1.0);
         }
     }
-    for (int64_t p = 0; p < np; p++) sup[p] = full_rank(G + p * R * R, R);
-    /* propagation: a piece pinned at nodes of supported pieces */
+    for (int64_t p = 0; p < d->np; p++) d->sup[p] = full_rank(d->G + p * R * R, R);
+    return 0;
+}
+
+/* an unsupported piece pinned at nodes it shares with supported pieces
+   (all components there) is supported, until nothing changes */
+static int propagate(det *d)
+{
+    int dim = d->dim, R = d->R;
+    double r[3], row[6];
     for (int changed = 1; changed;) {
         changed = 0;
-        for (int64_t p = 0; p < np; p++) {
-            if (sup[p]) continue;
+        for (int64_t p = 0; p < d->np; p++) {
+            if (d->sup[p]) continue;
             double H[36];
-            memcpy(H, G + p * R * R, (size_t)(R * R) * sizeof *H);
+            memcpy(H, d->G + p * R * R, (size_t)(R * R) * sizeof *H);
             int any = 0;
-            for (int64_t i = 0; i < nn; i++) {
-                if (pstart[i + 1] - pstart[i] < 2) continue;
+            for (int64_t i = 0; i < d->m->nn; i++) {
+                if (d->pstart[i + 1] - d->pstart[i] < 2) continue;
                 int mine = 0, other = 0;
-                for (int64_t q = pstart[i]; q < pstart[i + 1]; q++) {
-                    if (plist[q] == p) mine = 1;
-                    else if (sup[plist[q]]) other = 1;
+                for (int64_t q = d->pstart[i]; q < d->pstart[i + 1]; q++) {
+                    if (d->plist[q] == p) mine = 1;
+                    else if (d->sup[d->plist[q]]) other = 1;
                 }
                 if (!mine || !other) continue;
                 any = 1;
-                relpos(m, &g[p], (int32_t)i, r);
+                relpos(d->m, &d->g[p], (int32_t)i, r);
                 for (int c = 0; c < dim; c++) {
                     rbm_row(dim, r, c, row);
                     outer(H, R, 0, 0, row, row, R, 1.0);
                 }
             }
             if (any && full_rank(H, R)) {
-                sup[p] = 1;
+                d->sup[p] = 1;
                 changed = 1;
             }
         }
     }
-    /* the rest, coupled: rigid motions of the unsupported pieces */
-    int64_t nu = 0;
-    uidx = aug_malloc((size_t)np * sizeof *uidx + 1);
-    out->bad = aug_malloc((size_t)np * sizeof *out->bad + 1);
-    if (!uidx || !out->bad) goto nomem;
-    for (int64_t p = 0; p < np; p++) uidx[p] = sup[p] ? -1 : (int32_t)nu++;
-    if (nu > 0 && nu <= MAX_COUPLED) {
-        int64_t n = nu * R;
-        big = aug_calloc((size_t)(n * n), sizeof *big);
-        lam = aug_malloc((size_t)n * sizeof *lam);
-        V = aug_malloc((size_t)(n * n) * sizeof *V);
-        if (!big || !lam || !V) goto nomem;
-        for (int64_t p = 0; p < np; p++)
-            if (uidx[p] >= 0)
-                for (int i = 0; i < R; i++)
-                    for (int j = 0; j < R; j++)
-                        big[(uidx[p] * R + i) + (uidx[p] * R + j) * n] = G[p * R * R + i + j * R];
-        for (int64_t i = 0; i < nn; i++) {
-            int64_t a = pstart[i], b = pstart[i + 1];
-            if (b - a < 2) continue;
-            int32_t p0 = -1, anysup = 0;
-            for (int64_t q = a; q < b; q++) {
-                if (sup[plist[q]]) anysup = 1;
-                else if (p0 < 0) p0 = plist[q];
-            }
-            if (p0 < 0) continue;
-            for (int64_t q = a; q < b; q++) {
-                int32_t p = plist[q];
-                if (sup[p]) continue;
-                relpos(m, &g[p], (int32_t)i, r);
-                if (anysup)
-                    for (int c = 0; c < dim; c++) {
-                        rbm_row(dim, r, c, row);
-                        outer(big, n, uidx[p] * R, uidx[p] * R, row, row, R, 1.0);
-                    }
-                if (p == p0) continue;
-                double r0[3];
-                relpos(m, &g[p0], (int32_t)i, r0);
+    return 0;
+}
+
+/* the Gram matrix (n = nu R) of the unsupported pieces' motions: their own
+   constraints, full pinning at nodes shared with a supported piece, and
+   u_P(x_i) = u_P0(x_i) at each node i shared with P0, the first unsupported
+   piece there */
+static void coupled_gram(const det *d, double *big, int64_t n)
+{
+    const aug_mesh *m = d->m;
+    int dim = d->dim, R = d->R;
+    double r[3], r0[3], row[6], row2[6];
+    for (int64_t p = 0; p < d->np; p++)
+        if (d->uidx[p] >= 0)
+            for (int i = 0; i < R; i++)
+                for (int j = 0; j < R; j++)
+                    big[(d->uidx[p] * R + i) + (d->uidx[p] * R + j) * n] = d->G[p * R * R + i + j * R];
+    for (int64_t i = 0; i < m->nn; i++) {
+        int64_t a = d->pstart[i], b = d->pstart[i + 1];
+        if (b - a < 2) continue;
+        int32_t p0 = -1, anysup = 0;
+        for (int64_t q = a; q < b; q++) {
+            if (d->sup[d->plist[q]]) anysup = 1;
+            else if (p0 < 0) p0 = d->plist[q];
+        }
+        if (p0 < 0) continue;
+        for (int64_t q = a; q < b; q++) {
+            int32_t p = d->plist[q];
+            if (d->sup[p]) continue;
+            relpos(m, &d->g[p], (int32_t)i, r);
+            if (anysup)
                 for (int c = 0; c < dim; c++) {
-                    rbm_row(dim, r0, c, row);
-                    rbm_row(dim, r, c, row2);
-                    int64_t i0 = uidx[p0] * R, i1 = uidx[p] * R;
-                    outer(big, n, i0, i0, row, row, R, 1.0);
-                    outer(big, n, i1, i1, row2, row2, R, 1.0);
-                    outer(big, n, i0, i1, row, row2, R, -1.0);
-                    outer(big, n, i1, i0, row2, row, R, -1.0);
+                    rbm_row(dim, r, c, row);
+                    outer(big, n, d->uidx[p] * R, d->uidx[p] * R, row, row, R, 1.0);
                 }
+            if (p == p0) continue;
+            relpos(m, &d->g[p0], (int32_t)i, r0);
+            for (int c = 0; c < dim; c++) {
+                rbm_row(dim, r0, c, row);
+                rbm_row(dim, r, c, row2);
+                int64_t i0 = d->uidx[p0] * R, i1 = d->uidx[p] * R;
+                outer(big, n, i0, i0, row, row, R, 1.0);
+                outer(big, n, i1, i1, row2, row2, R, 1.0);
+                outer(big, n, i0, i1, row, row2, R, -1.0);
+                outer(big, n, i1, i0, row2, row, R, -1.0);
             }
         }
-        if (eig(big, n, lam, V)) goto nomem;
-        double mx = 0;
-        for (int64_t i = 0; i < n; i++)
-            if (lam[i] > mx) mx = lam[i];
-        unsigned char *bad = aug_calloc((size_t)np + 1, 1);
-        if (!bad) goto nomem;
-        for (int64_t j = 0; j < n; j++) {
-            if (mx > 0 && lam[j] > RANK_TOL * mx) continue;
-            for (int64_t p = 0; p < np; p++) {
-                if (uidx[p] < 0) continue;
-                double s2 = 0;
-                for (int i = 0; i < R; i++) s2 += V[uidx[p] * R + i + j * n] * V[uidx[p] * R + i + j * n];
-                if (s2 > 1e-12) bad[p] = 1;
-            }
-        }
-        for (int64_t p = 0; p < np; p++)
-            if (bad[p]) out->bad[out->nbad++] = (int32_t)p;
-        free(bad);
-    } else if (nu > 0) {
-        for (int64_t p = 0; p < np; p++)
-            if (!sup[p]) out->bad[out->nbad++] = (int32_t)p;
     }
-    qsort_r(out->bad, (size_t)out->nbad, sizeof *out->bad, cmp_first, out->first);
-    goto done;
-nomem:
-    aug_pieces_free(out);
-    rc = aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory finding detached pieces");
-done:
-    free(np_of);
-    free(plist);
-    free(pstart);
-    free(uidx);
-    free(g);
-    free(G);
+}
+
+/* the unsupported pieces moving in the null space of their coupled Gram
+   matrix are bad (more than MAX_COUPLED: every unsupported piece is) */
+static int coupled(det *d)
+{
+    aug_pieces *out = d->out;
+    int64_t np = d->np;
+    d->uidx = aug_malloc((size_t)np * sizeof *d->uidx + 1);
+    out->bad = aug_malloc((size_t)np * sizeof *out->bad + 1);
+    if (!d->uidx || !out->bad) return -1;
+    for (int64_t p = 0; p < np; p++) d->uidx[p] = d->sup[p] ? -1 : (int32_t)d->nu++;
+    if (d->nu > MAX_COUPLED) {
+        for (int64_t p = 0; p < np; p++)
+            if (!d->sup[p]) out->bad[out->nbad++] = (int32_t)p;
+        return 0;
+    }
+    if (d->nu == 0) return 0;
+    int R = d->R, rc = -1;
+    int64_t n = d->nu * R;
+    double *big = aug_calloc((size_t)(n * n), sizeof *big);
+    double *lam = aug_malloc((size_t)n * sizeof *lam);
+    double *V = aug_malloc((size_t)(n * n) * sizeof *V);
+    unsigned char *bad = aug_calloc((size_t)np + 1, 1);
+    if (!big || !lam || !V || !bad) goto out;
+    coupled_gram(d, big, n);
+    if (eig(big, n, lam, V)) goto out;
+    double mx = 0;
+    for (int64_t i = 0; i < n; i++)
+        if (lam[i] > mx) mx = lam[i];
+    for (int64_t j = 0; j < n; j++) {
+        if (mx > 0 && lam[j] > RANK_TOL * mx) continue;
+        for (int64_t p = 0; p < np; p++) {
+            if (d->uidx[p] < 0) continue;
+            double s2 = 0;
+            for (int i = 0; i < R; i++) s2 += V[d->uidx[p] * R + i + j * n] * V[d->uidx[p] * R + i + j * n];
+            if (s2 > 1e-12) bad[p] = 1;
+        }
+    }
+    for (int64_t p = 0; p < np; p++)
+        if (bad[p]) out->bad[out->nbad++] = (int32_t)p;
+    rc = 0;
+out:
     free(big);
     free(lam);
     free(V);
-    free(sup);
+    free(bad);
     return rc;
+}
+
+/* the one piece: its own constraints decide (single_unsupported) */
+static int one_piece(det *d)
+{
+    d->out->bad = aug_malloc(sizeof *d->out->bad);
+    if (!d->out->bad) return -1;
+    if (single_unsupported(d->m, d->adj, d->extra)) d->out->bad[d->out->nbad++] = 0;
+    return 0;
+}
+
+/* null space of the rigid motions r_P of all pieces P subject to
+   u_P(x_i)_c = 0 for constrained (i, c) and u_P(x_i) = u_Q(x_i) at shared
+   nodes: pieces, their geometry, the pieces of each node, each piece's own
+   support, support passed on through shared nodes, the rest coupled */
+int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn,
+                    const aug_bdelta *extra, aug_pieces *out, aug_err *e)
+{
+    aug_err_clear(e);
+    det d;
+    memset(&d, 0, sizeof d);
+    d.m = m, d.adj = adj, d.fn = fn, d.extra = extra, d.out = out;
+    d.dim = m->dim, d.R = m->dim == 3 ? 6 : 3;
+    free(out->bad);
+    free(out->first);
+    free(out->size);
+    out->bad = out->first = NULL;
+    out->size = NULL;
+    out->np = out->nbad = 0;
+    int rc = reserve(out, m->ne) || number_pieces(&d);
+    if (!rc && d.np == 1) rc = one_piece(&d);
+    else if (!rc)
+        rc = piece_geometry(&d) || node_pieces(&d) || own_constraints(&d) || propagate(&d) || coupled(&d);
+    if (!rc && d.np != 1) qsort_r(out->bad, (size_t)out->nbad, sizeof *out->bad, cmp_first, out->first);
+    free(d.g);
+    free(d.G);
+    free(d.sup);
+    free(d.pstart);
+    free(d.plist);
+    free(d.uidx);
+    if (!rc) return 0;
+    aug_pieces_free(out);
+    return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory finding detached pieces");
 }
 
 /* nodes of piece id, increasing; count in *n */

@@ -131,12 +131,6 @@ int aug_facenbr_build(aug_facenbr *fn, const aug_mesh *m, const aug_adj *adj)
     return 0;
 }
 
-static int cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
 int aug_facenbr_update(aug_facenbr *fn, const aug_mesh *m, const aug_adj *adj,
                        const int32_t *elems, int64_t n)
 {
@@ -154,7 +148,7 @@ int aug_facenbr_update(aug_facenbr *fn, const aug_mesh *m, const aug_adj *adj,
             for (int f = 0; f < nf; f++)
                 if (fn->nbr[(int64_t)el * nf + f] >= 0) dirty[nd++] = fn->nbr[(int64_t)el * nf + f];
     }
-    qsort(dirty, (size_t)nd, sizeof *dirty, cmp_i32);
+    qsort(dirty, (size_t)nd, sizeof *dirty, aug_cmp_i32);
     int64_t w = 0;
     for (int64_t i = 0; i < nd; i++)
         if (w == 0 || dirty[w - 1] != dirty[i]) dirty[w++] = dirty[i];
@@ -165,7 +159,7 @@ int aug_facenbr_update(aug_facenbr *fn, const aug_mesh *m, const aug_adj *adj,
     for (int64_t i = 0; i < nd2; i++)
         for (int f = 0; f < nf; f++) {
             int32_t g = fn->nbr[(int64_t)dirty[i] * nf + f];
-            if (g >= 0 && !bsearch(&g, dirty, (size_t)nd2, sizeof g, cmp_i32)) refresh(fn, m, adj, g);
+            if (g >= 0 && !bsearch(&g, dirty, (size_t)nd2, sizeof g, aug_cmp_i32)) refresh(fn, m, adj, g);
         }
     free(fn->dirty);
     fn->dirty = dirty;

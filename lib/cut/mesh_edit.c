@@ -129,32 +129,6 @@ int64_t aug_edit_elem(aug_edit *ed, const int32_t *conn, int32_t mat)
     return elem;
 }
 
-/* signed area (tri3) or volume (tet4) of elem in the edited mesh, as
-   aug_elem_measure */
-double aug_edit_measure(const aug_edit *ed, int64_t elem)
-{
-    const int32_t *c = aug_edit_conn(ed, elem);
-    const double *p[4];
-    for (int k = 0; k < ed->m->nv; k++) p[k] = aug_edit_x(ed, c[k]);
-    if (ed->m->dim == 2)
-        return 0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
-                      (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
-    double a[3], b[3], cc[3];
-    for (int k = 0; k < 3; k++) {
-        a[k] = p[1][k] - p[0][k];
-        b[k] = p[2][k] - p[0][k];
-        cc[k] = p[3][k] - p[0][k];
-    }
-    return (a[0] * (b[1] * cc[2] - b[2] * cc[1]) - a[1] * (b[0] * cc[2] - b[2] * cc[0]) +
-            a[2] * (b[0] * cc[1] - b[1] * cc[0])) / 6.0;
-}
-
-static int cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
 int aug_edit_end(aug_edit *ed, int32_t step, aug_mdelta *d, int32_t **oldconn, aug_err *e)
 {
     aug_err_clear(e);
@@ -167,7 +141,7 @@ int aug_edit_end(aug_edit *ed, int32_t step, aug_mdelta *d, int32_t **oldconn, a
     int32_t *order = aug_malloc((size_t)ed->nmod * sizeof *order + 1);
     if (!order) goto nomem;
     if (ed->nmod) memcpy(order, ed->mod_elem, (size_t)ed->nmod * sizeof *order);
-    qsort(order, (size_t)ed->nmod, sizeof *order, cmp_i32);
+    qsort(order, (size_t)ed->nmod, sizeof *order, aug_cmp_i32);
     int64_t nch = 0;
     for (int64_t i = 0; i < ed->nmod; i++) {
         int32_t el = order[i];

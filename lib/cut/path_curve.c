@@ -127,18 +127,3 @@ int aug_curve_line_roots(const aug_curve *c, const double a[2], const double b[2
     if (gm <= 1e-12 * nl * (ext > 0 ? ext : 1)) return -1;
     return roots(cf, t0, t1, t);
 }
-
-/* arc length of B over [0, 1] by the chord polygon at AUG_PATH_NS + 1 equal
-   parameter steps */
-double aug_curve_length(const aug_curve *c)
-{
-    double L = 0, p[2], q[2];
-    aug_curve_eval(c, 0, p);
-    for (int i = 1; i <= AUG_PATH_NS; i++) {
-        aug_curve_eval(c, (double)i / AUG_PATH_NS, q);
-        L += hypot(q[0] - p[0], q[1] - p[1]);
-        p[0] = q[0];
-        p[1] = q[1];
-    }
-    return L;
-}

@@ -11,42 +11,60 @@ int64_t aug_cut_index(const aug_mesh *m, int64_t nn0, const int32_t *map0, int64
     return nfree0 + (node - nn0) * m->dim + c;
 }
 
-typedef struct bstate {
-    const aug_mesh *A;
-    int64_t nnb;
-    const aug_bdelta *bc;
-} bstate;
+typedef struct hent {
+    int64_t idx;
+    int32_t dof;
+} hent;
 
+/* the state of one update's construction (aug_update_build_after) */
+typedef struct ubuild {
+    const aug_mesh *A;          /* the mesh after the step's MDLT */
+    int64_t nnb, neb;           /* node and element counts before it */
+    const int32_t *oldconn;
+    const aug_mdelta *d;
+    const aug_bdelta *bc;       /* the step's constraints and loads, or NULL */
+    int64_t nn0, nfree0;        /* cut-matrix numbering */
+    const int32_t *map0;
+    aug_update *u;
+    aug_err *e;
+    int dim, nv, nd;
+    int64_t nprev, k;           /* order of K_{t-1}; DOFs added */
+    int32_t *el;                /* the elements to difference, increasing */
+    int64_t nel;
+    hent *h;                    /* Hbar's old indices, increasing */
+    int64_t m, s;               /* |H|, |Hbar| = m + k */
+    double *E, *fo, *fn;        /* E (s x s); the constrained values' lift before / after */
+} ubuild;
 
-static int fixed_prev(const bstate *s, int32_t dof, double *v)
+static int fixed_prev(const ubuild *b, int32_t dof, double *v)
 {
-    return dof < s->nnb * s->A->dim && aug_mesh_fixed(s->A, dof, v);
+    return dof < b->nnb * b->A->dim && aug_mesh_fixed(b->A, dof, v);
 }
 
-static int fixed_now(const bstate *s, int32_t dof, double *v)
+static int fixed_now(const ubuild *b, int32_t dof, double *v)
 {
-    if (s->bc) {
-        int64_t k = aug_find_i32(s->bc->fix_dof, s->bc->nfix, dof);
+    if (b->bc) {
+        int64_t k = aug_find_i32(b->bc->fix_dof, b->bc->nfix, dof);
         if (k >= 0) {
-            if (v) *v = s->bc->fix_val[k];
+            if (v) *v = b->bc->fix_val[k];
             return 1;
         }
     }
-    return aug_mesh_fixed(s->A, dof, v);
+    return aug_mesh_fixed(b->A, dof, v);
 }
 
-static double load_prev(const bstate *s, int32_t dof)
+static double load_prev(const ubuild *b, int32_t dof)
 {
-    return dof < s->nnb * s->A->dim ? aug_mesh_load(s->A, dof) : 0.0;
+    return dof < b->nnb * b->A->dim ? aug_mesh_load(b->A, dof) : 0.0;
 }
 
-static double load_now(const bstate *s, int32_t dof)
+static double load_now(const ubuild *b, int32_t dof)
 {
-    if (s->bc) {
-        int64_t k = aug_find_i32(s->bc->load_dof, s->bc->nload, dof);
-        if (k >= 0) return s->bc->load_val[k];
+    if (b->bc) {
+        int64_t k = aug_find_i32(b->bc->load_dof, b->bc->nload, dof);
+        if (k >= 0) return b->bc->load_val[k];
     }
-    return aug_mesh_load(s->A, dof);
+    return aug_mesh_load(b->A, dof);
 }
 
 /* element stiffness of the element with connectivity conn and material mat in A */
@@ -71,17 +89,6 @@ static void stiffness(const aug_mesh *A, const int32_t *conn, int32_t mat, doubl
     aug_elem_stiffness(&t, 0, Ke);
 }
 
-static int cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
-typedef struct hent {
-    int64_t idx;
-    int32_t dof;
-} hent;
-
 static int cmp_hent(const void *a, const void *b)
 {
     const hent *x = a, *y = b;
@@ -102,181 +109,208 @@ static int64_t hpos(const hent *h, int64_t m, int64_t nprev, int64_t g)
     return -1;
 }
 
-#define NOMEM() aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory")
-
-/* K_t = [K_{t-1} 0; 0 I_k] - Hbar (E + [0 0; 0 I_k]) Hbar', i.e.
-   E = -(K_t - [K_{t-1} 0; 0 0]) on Hbar, and df = f_t - [f_{t-1}; 0] on Hbar,
-   summed over the elements whose connectivity or constraint state changed. */
-int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const int32_t *oldconn,
-                           const aug_mdelta *d, const aug_bdelta *bc, int64_t nn0,
-                           const int32_t *map0, int64_t nfree0, aug_update *u, aug_err *e)
+/* the connectivity of element i before the step, NULL for an added one */
+static const int32_t *old_conn(const ubuild *b, int32_t i)
 {
-    aug_err_clear(e);
-    aug_update_init(u);
-    u->step = d->step;
-    int dim = A->dim, nv = A->nv, nd = nv * dim;
-    if (A->nn - nnb != d->nnew || A->ne - neb != d->nadd)
-        return aug_err_set(e, AUG_EUSAGE, -1, "UPDT", "mesh does not match its delta");
-    if (bc)
-        for (int64_t i = 0; i < bc->nfix; i++)
-            if (bc->fix_dof[i] < 0 || bc->fix_dof[i] >= A->nn * dim)
-                return aug_err_set(e, AUG_EDATA, -1, "BDLT", "constraint dof %d out of range",
-                                   (int)bc->fix_dof[i]);
-    bstate st = {A, nnb, bc};
-    int64_t nprev = nfree0 + dim * (nnb - nn0), k = dim * d->nnew;
-    int32_t *el = NULL;
-    hent *h = NULL;
-    unsigned char *mark = NULL;
-    double *E = NULL, *fo = NULL, *fn = NULL;
-    int64_t nel = 0, capel = d->nmod + d->nadd + 16;
-    el = aug_malloc((size_t)capel * sizeof *el);
-    if (!el) goto nomem;
-    for (int64_t i = 0; i < d->nmod; i++) el[nel++] = d->elem[i];
-    for (int64_t i = neb; i < A->ne; i++) el[nel++] = (int32_t)i;
+    int64_t mp = aug_find_i32(b->d->elem, b->d->nmod, i);
+    if (mp >= 0) return b->oldconn + mp * b->nv;
+    return i < b->neb ? b->A->conn + (int64_t)i * b->nv : NULL;
+}
+
+#define NOMEM(b) aug_err_set((b)->e, AUG_ENOMEM, -1, "UPDT", "out of memory")
+
+/* the mesh matches its delta; the constraints name DOFs of the mesh */
+static int check_input(ubuild *b)
+{
+    const aug_bdelta *bc = b->bc;
+    if (b->A->nn - b->nnb != b->d->nnew || b->A->ne - b->neb != b->d->nadd)
+        return aug_err_set(b->e, AUG_EUSAGE, -1, "UPDT", "mesh does not match its delta");
+    for (int64_t i = 0; bc && i < bc->nfix; i++)
+        if (bc->fix_dof[i] < 0 || bc->fix_dof[i] >= b->A->nn * b->dim)
+            return aug_err_set(b->e, AUG_EDATA, -1, "BDLT", "constraint dof %d out of range", (int)bc->fix_dof[i]);
+    return 0;
+}
+
+/* the elements whose stiffness enters E: changed, added, and those touching
+   a node the step constrains (increasing, once each) */
+static int changed_elements(ubuild *b)
+{
+    const aug_mesh *A = b->A;
+    const aug_bdelta *bc = b->bc;
+    int64_t cap = b->d->nmod + b->d->nadd + 16;
+    b->el = aug_malloc((size_t)cap * sizeof *b->el);
+    if (!b->el) return NOMEM(b);
+    for (int64_t i = 0; i < b->d->nmod; i++) b->el[b->nel++] = b->d->elem[i];
+    for (int64_t i = b->neb; i < A->ne; i++) b->el[b->nel++] = (int32_t)i;
     if (bc && bc->nfix) {
-        mark = aug_calloc((size_t)A->nn, 1);
-        if (!mark) goto nomem;
-        for (int64_t i = 0; i < bc->nfix; i++) mark[bc->fix_dof[i] / dim] = 1;
+        unsigned char *mark = aug_calloc((size_t)A->nn, 1);
+        if (!mark) return NOMEM(b);
+        for (int64_t i = 0; i < bc->nfix; i++) mark[bc->fix_dof[i] / b->dim] = 1;
         for (int64_t i = 0; i < A->ne; i++) {
             int hit = 0;
-            for (int a = 0; a < nv; a++) hit |= mark[A->conn[i * nv + a]];
+            for (int a = 0; a < b->nv; a++) hit |= mark[A->conn[i * b->nv + a]];
             if (!hit) continue;
-            if (nel == capel) {
-                capel *= 2;
-                int32_t *q = aug_realloc(el, (size_t)capel * sizeof *q);
-                if (!q) goto nomem;
-                el = q;
+            if (b->nel == cap) {
+                int32_t *q = aug_realloc(b->el, (size_t)(cap *= 2) * sizeof *q);
+                if (!q) {
+                    free(mark);
+                    return NOMEM(b);
+                }
+                b->el = q;
             }
-            el[nel++] = (int32_t)i;
+            b->el[b->nel++] = (int32_t)i;
         }
+        free(mark);
     }
-    qsort(el, (size_t)nel, sizeof *el, cmp_i32);
-    {
-        int64_t w = 0;
-        for (int64_t i = 0; i < nel; i++)
-            if (w == 0 || el[w - 1] != el[i]) el[w++] = el[i];
-        nel = w;
-    }
-    /* H: old matrix indices of the nodes of changed elements, of changed loads
-       and constraints, except identity rows that stay as they were */
-    int64_t nh = 0, caph = nel * 2 * nd + (bc ? bc->nfix + bc->nload : 0) + 1;
-    h = aug_malloc((size_t)caph * sizeof *h);
-    if (!h) goto nomem;
-#define ADD_DOF(DOF)                                                                          \
-    do {                                                                                      \
-        int32_t dof_ = (DOF);                                                                 \
-        int64_t g_ = aug_cut_index(A, nn0, map0, nfree0, dof_ / dim, dof_ % dim);             \
-        double vp_ = 0, vn_ = 0;                                                              \
-        if (g_ < 0 || g_ >= nprev) break;                                                     \
-        if (fixed_prev(&st, dof_, &vp_) && fixed_now(&st, dof_, &vn_) && vp_ == vn_) break;   \
-        h[nh].idx = g_;                                                                       \
-        h[nh++].dof = dof_;                                                                   \
-    } while (0)
-    for (int64_t q = 0; q < nel; q++) {
-        int32_t i = el[q];
-        int64_t mp = aug_find_i32(d->elem, d->nmod, i);
-        const int32_t *oc = mp >= 0 ? oldconn + mp * nv : (i < neb ? A->conn + (int64_t)i * nv : NULL);
+    qsort(b->el, (size_t)b->nel, sizeof *b->el, aug_cmp_i32);
+    int64_t w = 0;
+    for (int64_t i = 0; i < b->nel; i++)
+        if (w == 0 || b->el[w - 1] != b->el[i]) b->el[w++] = b->el[i];
+    b->nel = w;
+    return 0;
+}
+
+/* dof's old matrix index into H, unless it has none or is an identity row
+   that stays as it was (constrained to the same value before and after) */
+static void add_index(ubuild *b, int32_t dof)
+{
+    int64_t g = aug_cut_index(b->A, b->nn0, b->map0, b->nfree0, dof / b->dim, dof % b->dim);
+    double vp = 0, vn = 0;
+    if (g < 0 || g >= b->nprev) return;
+    if (fixed_prev(b, dof, &vp) && fixed_now(b, dof, &vn) && vp == vn) return;
+    b->h[b->m].idx = g;
+    b->h[b->m++].dof = dof;
+}
+
+/* H: old matrix indices of the nodes of the elements (before and after), of
+   changed loads and constraints (increasing, once each); Hbar = H + the k
+   new DOFs */
+static int index_set(ubuild *b)
+{
+    const aug_bdelta *bc = b->bc;
+    int dim = b->dim, nv = b->nv;
+    int64_t cap = b->nel * 2 * b->nd + (bc ? bc->nfix + bc->nload : 0) + 1;
+    b->h = aug_malloc((size_t)cap * sizeof *b->h);
+    if (!b->h) return NOMEM(b);
+    for (int64_t q = 0; q < b->nel; q++) {
+        int32_t i = b->el[q];
+        const int32_t *oc = old_conn(b, i), *nc = b->A->conn + (int64_t)i * nv;
         for (int a = 0; a < nv; a++)
             for (int c = 0; c < dim; c++) {
-                if (oc && oc[a] < nnb) ADD_DOF(oc[a] * dim + c);
-                int32_t nb = A->conn[(int64_t)i * nv + a];
-                if (nb < nnb) ADD_DOF(nb * dim + c);
+                if (oc && oc[a] < b->nnb) add_index(b, oc[a] * dim + c);
+                if (nc[a] < b->nnb) add_index(b, nc[a] * dim + c);
             }
     }
-    if (bc) {
-        for (int64_t i = 0; i < bc->nfix; i++)
-            if (bc->fix_dof[i] < nnb * dim) ADD_DOF(bc->fix_dof[i]);
-        for (int64_t i = 0; i < bc->nload; i++)
-            if (bc->load_dof[i] < nnb * dim) ADD_DOF(bc->load_dof[i]);
-    }
-#undef ADD_DOF
-    qsort(h, (size_t)nh, sizeof *h, cmp_hent);
-    {
-        int64_t w = 0;
-        for (int64_t i = 0; i < nh; i++)
-            if (w == 0 || h[w - 1].idx != h[i].idx) h[w++] = h[i];
-        nh = w;
-    }
-    int64_t m = nh, s = m + k;
-    if (s > (1 << 20)) {
-        free(el);
-        free(h);
-        free(mark);
-        return aug_err_set(e, AUG_EDATA, -1, "UPDT", "update of order %lld is too large",
-                           (long long)s);
-    }
-    E = aug_calloc((size_t)(s * s) + 1, sizeof *E);
-    fo = aug_calloc((size_t)s + 1, sizeof *fo);
-    fn = aug_calloc((size_t)s + 1, sizeof *fn);
-    u->H = aug_malloc((size_t)m * sizeof *u->H + 1);
-    u->df = aug_calloc((size_t)s + 1, sizeof *u->df);
-    if (!E || !fo || !fn || !u->H || !u->df) goto nomem;
-    for (int64_t q = 0; q < nel; q++) {
-        int32_t i = el[q];
-        int64_t mp = aug_find_i32(d->elem, d->nmod, i);
-        const int32_t *oc = mp >= 0 ? oldconn + mp * nv : (i < neb ? A->conn + (int64_t)i * nv : NULL);
-        const int32_t *nc = A->conn + (int64_t)i * nv;
-        double Ko[144], Kn[144];
-        int64_t pos[12];
-        int fr[12];
-        double val[12];
-        for (int pass = 0; pass < 2; pass++) {
-            const int32_t *cc = pass == 0 ? oc : nc;
-            double *K = pass == 0 ? Ko : Kn;
-            double sign = pass == 0 ? 1.0 : -1.0;
-            double *lift = pass == 0 ? fo : fn;
-            if (!cc) continue;
-            if (pass == 1 && oc && memcmp(oc, nc, (size_t)nv * sizeof *nc) == 0)
-                memcpy(Kn, Ko, sizeof Kn);
-            else
-                stiffness(A, cc, A->mat[i], K);
-            for (int a = 0; a < nv; a++)
-                for (int c = 0; c < dim; c++) {
-                    int l = a * dim + c;
-                    int32_t dof = cc[a] * dim + c;
-                    int64_t g = aug_cut_index(A, nn0, map0, nfree0, cc[a], c);
-                    int con = pass == 0 ? fixed_prev(&st, dof, &val[l]) : fixed_now(&st, dof, &val[l]);
-                    fr[l] = g >= 0 && !con;
-                    pos[l] = fr[l] ? hpos(h, m, nprev, g) : -1;
-                    if (!con) val[l] = 0;
-                }
-            for (int b = 0; b < nd; b++) {
-                if (fr[b]) {
-                    for (int a = 0; a < nd; a++)
-                        if (fr[a] && pos[a] <= pos[b]) E[pos[a] + pos[b] * s] += sign * K[a + b * nd];
-                } else if (val[b] != 0) {
-                    for (int a = 0; a < nd; a++)
-                        if (fr[a]) lift[pos[a]] -= K[a + b * nd] * val[b];
-                }
-            }
+    for (int64_t i = 0; bc && i < bc->nfix; i++)
+        if (bc->fix_dof[i] < b->nnb * dim) add_index(b, bc->fix_dof[i]);
+    for (int64_t i = 0; bc && i < bc->nload; i++)
+        if (bc->load_dof[i] < b->nnb * dim) add_index(b, bc->load_dof[i]);
+    qsort(b->h, (size_t)b->m, sizeof *b->h, cmp_hent);
+    int64_t w = 0;
+    for (int64_t i = 0; i < b->m; i++)
+        if (w == 0 || b->h[w - 1].idx != b->h[i].idx) b->h[w++] = b->h[i];
+    b->m = w;
+    b->s = b->m + b->k;
+    if (b->s > (1 << 20))
+        return aug_err_set(b->e, AUG_EDATA, -1, "UPDT", "update of order %lld is too large", (long long)b->s);
+    b->E = aug_calloc((size_t)(b->s * b->s) + 1, sizeof *b->E);
+    b->fo = aug_calloc((size_t)b->s + 1, sizeof *b->fo);
+    b->fn = aug_calloc((size_t)b->s + 1, sizeof *b->fn);
+    b->u->H = aug_malloc((size_t)b->m * sizeof *b->u->H + 1);
+    b->u->df = aug_calloc((size_t)b->s + 1, sizeof *b->u->df);
+    if (!b->E || !b->fo || !b->fn || !b->u->H || !b->u->df) return NOMEM(b);
+    return 0;
+}
+
+/* E += sign K_e on the element's free DOFs in Hbar (upper triangle), and
+   lift -= K_e(:, j) v_j for its constrained DOFs j of value v_j (now: after
+   the step, else before) */
+static void add_element(ubuild *b, const int32_t *cc, int now, const double *K, double sign, double *lift)
+{
+    int dim = b->dim, nd = b->nd;
+    int64_t pos[12], s = b->s;
+    int fr[12];
+    double val[12];
+    for (int a = 0; a < b->nv; a++)
+        for (int c = 0; c < dim; c++) {
+            int l = a * dim + c;
+            int32_t dof = cc[a] * dim + c;
+            int64_t g = aug_cut_index(b->A, b->nn0, b->map0, b->nfree0, cc[a], c);
+            int con = now ? fixed_now(b, dof, &val[l]) : fixed_prev(b, dof, &val[l]);
+            fr[l] = g >= 0 && !con;
+            pos[l] = fr[l] ? hpos(b->h, b->m, b->nprev, g) : -1;
+            if (!con) val[l] = 0;
+        }
+    for (int j = 0; j < nd; j++) {
+        if (fr[j]) {
+            for (int a = 0; a < nd; a++)
+                if (fr[a] && pos[a] <= pos[j]) b->E[pos[a] + pos[j] * s] += sign * K[a + j * nd];
+        } else if (val[j] != 0) {
+            for (int a = 0; a < nd; a++)
+                if (fr[a]) lift[pos[a]] -= K[a + j * nd] * val[j];
         }
     }
+}
+
+/* -(K_t - [K_{t-1} 0; 0 0]) on Hbar: each element's stiffness before (+) and
+   after (-), with the lifts of the constrained values into fo and fn */
+static void stiffness_change(ubuild *b)
+{
+    const aug_mesh *A = b->A;
+    for (int64_t q = 0; q < b->nel; q++) {
+        int32_t i = b->el[q];
+        const int32_t *oc = old_conn(b, i), *nc = A->conn + (int64_t)i * b->nv;
+        double Ko[144], Kn[144];
+        if (oc) {
+            stiffness(A, oc, A->mat[i], Ko);
+            add_element(b, oc, 0, Ko, 1.0, b->fo);
+        }
+        if (oc && memcmp(oc, nc, (size_t)b->nv * sizeof *nc) == 0) memcpy(Kn, Ko, sizeof Kn);
+        else stiffness(A, nc, A->mat[i], Kn);
+        add_element(b, nc, 1, Kn, -1.0, b->fn);
+    }
+}
+
+/* per position p of Hbar: H_p (its old matrix index, p < m); E_pp -= 1 where
+   the step constrains a DOF that was free or is new (its row becomes an
+   identity row); df_p = f_t - [f_{t-1}; 0] there, constrained values and
+   their lifts included; then E symmetric from its upper triangle */
+static void rows_and_rhs(ubuild *b)
+{
+    int64_t m = b->m, s = b->s;
+    int dim = b->dim;
     for (int64_t p = 0; p < s; p++) {
         int32_t dof;
         if (p < m) {
-            dof = h[p].dof;
-            u->H[p] = (int32_t)h[p].idx;
+            dof = b->h[p].dof;
+            b->u->H[p] = (int32_t)b->h[p].idx;
         } else {
             int64_t r = p - m;
-            dof = (int32_t)((nnb + r / dim) * dim + r % dim);
+            dof = (int32_t)((b->nnb + r / dim) * dim + r % dim);
         }
-        double vp = 0, vn = 0;
-        int fp = p < m && fixed_prev(&st, dof, &vp), fw = fixed_now(&st, dof, &vn);
-        if (fw && !fp) E[p + p * s] -= 1.0;
-        if (p >= m) u->df[p] = fw ? vn : load_now(&st, dof) + fn[p];
-        else if (!fp && !fw) u->df[p] = (load_now(&st, dof) - load_prev(&st, dof)) + (fn[p] - fo[p]);
-        else if (!fp && fw) u->df[p] = vn - (load_prev(&st, dof) + fo[p]);
-        else u->df[p] = vn - vp;
+        double vp = 0, vn = 0, *df = b->u->df;
+        int fp = p < m && fixed_prev(b, dof, &vp), fw = fixed_now(b, dof, &vn);
+        if (fw && !fp) b->E[p + p * s] -= 1.0;
+        if (p >= m) df[p] = fw ? vn : load_now(b, dof) + b->fn[p];
+        else if (!fp && !fw) df[p] = (load_now(b, dof) - load_prev(b, dof)) + (b->fn[p] - b->fo[p]);
+        else if (!fp && fw) df[p] = vn - (load_prev(b, dof) + b->fo[p]);
+        else df[p] = vn - vp;
     }
     for (int64_t j = 0; j < s; j++)
-        for (int64_t i = j + 1; i < s; i++) E[i + j * s] = E[j + i * s];
-    /* drop the old indices whose row of E and load change are exactly zero
-       (e.g. neighbours whose couplings all go to constrained DOFs) */
-    int64_t *keep = aug_malloc((size_t)s * sizeof *keep + 1), nk = 0;
-    if (!keep) goto nomem;
+        for (int64_t i = j + 1; i < s; i++) b->E[i + j * s] = b->E[j + i * s];
+}
+
+/* drop the old indices whose row of E and load change are exactly zero
+   (e.g. neighbours whose couplings all go to constrained DOFs) */
+static int drop_zero_rows(ubuild *b)
+{
+    int64_t m = b->m, s = b->s, nk = 0;
+    aug_update *u = b->u;
+    int64_t *keep = aug_malloc((size_t)s * sizeof *keep + 1);
+    if (!keep) return NOMEM(b);
     for (int64_t p = 0; p < s; p++) {
         int nz = p >= m || u->df[p] != 0;
-        for (int64_t q = 0; q < s && !nz; q++) nz = E[p + q * s] != 0;
+        for (int64_t q = 0; q < s && !nz; q++) nz = b->E[p + q * s] != 0;
         if (nz) keep[nk++] = p;
     }
     if (nk < s) {
@@ -286,30 +320,53 @@ int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const in
             u->df[a] = u->df[keep[a]];
         }
         /* in place, in increasing target order: every source lies at or after its target */
-        for (int64_t b = 0; b < nk; b++)
-            for (int64_t a = 0; a < nk; a++) E[a + b * nk] = E[keep[a] + keep[b] * s];
-        m = m2;
-        s = nk;
+        for (int64_t j = 0; j < nk; j++)
+            for (int64_t a = 0; a < nk; a++) b->E[a + j * nk] = b->E[keep[a] + keep[j] * s];
+        b->m = m2;
+        b->s = nk;
     }
     free(keep);
-    u->m = (int32_t)m;
-    u->k = (int32_t)k;
-    u->E = E;
-    free(el);
-    free(h);
-    free(mark);
-    free(fo);
-    free(fn);
     return 0;
-nomem:
-    free(el);
-    free(h);
-    free(mark);
-    free(E);
-    free(fo);
-    free(fn);
-    aug_update_free(u);
-    return NOMEM();
+}
+
+/* K_t = [K_{t-1} 0; 0 I_k] - Hbar (E + [0 0; 0 I_k]) Hbar', i.e.
+   E = -(K_t - [K_{t-1} 0; 0 0]) on Hbar, and df = f_t - [f_{t-1}; 0] on Hbar,
+   summed over the elements whose connectivity or constraint state changed:
+   the elements, the index set, the stiffness change, the constrained rows
+   and right-hand side, the zero rows dropped. */
+int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const int32_t *oldconn,
+                           const aug_mdelta *d, const aug_bdelta *bc, int64_t nn0,
+                           const int32_t *map0, int64_t nfree0, aug_update *u, aug_err *e)
+{
+    aug_err_clear(e);
+    aug_update_init(u);
+    u->step = d->step;
+    ubuild b;
+    memset(&b, 0, sizeof b);
+    b.A = A, b.nnb = nnb, b.neb = neb, b.oldconn = oldconn, b.d = d, b.bc = bc;
+    b.nn0 = nn0, b.map0 = map0, b.nfree0 = nfree0, b.u = u, b.e = e;
+    b.dim = A->dim, b.nv = A->nv, b.nd = A->nv * A->dim;
+    b.nprev = nfree0 + b.dim * (nnb - nn0), b.k = b.dim * d->nnew;
+    int rc = check_input(&b);
+    if (rc) return rc;
+    if (!(rc = changed_elements(&b)) && !(rc = index_set(&b))) {
+        stiffness_change(&b);
+        rows_and_rhs(&b);
+        rc = drop_zero_rows(&b);
+    }
+    free(b.el);
+    free(b.h);
+    free(b.fo);
+    free(b.fn);
+    if (rc) {
+        free(b.E);
+        aug_update_free(u);
+        return rc;
+    }
+    u->m = (int32_t)b.m;
+    u->k = (int32_t)b.k;
+    u->E = b.E;
+    return 0;
 }
 
 int aug_update_build_bc(const aug_mesh *before, const aug_mdelta *d, const aug_bdelta *bc,

@@ -1,5 +1,12 @@
-/* Binary search in a sorted int32 array. */
+/* Sorted int32 arrays: the qsort/bsearch order and binary search. */
 #include "aug_mesh.h"
+
+/* qsort/bsearch comparison of two int32: sign of *a - *b */
+int aug_cmp_i32(const void *a, const void *b)
+{
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
 
 /* position of v in a[0..n) (strictly increasing), -1 if absent */
 int64_t aug_find_i32(const int32_t *a, int64_t n, int32_t v)

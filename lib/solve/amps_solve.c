@@ -34,7 +34,7 @@ void aug_amps_free(aug_amps *a)
     memset(a, 0, sizeof *a);
 }
 
-static double now_ms(void) { return aug_wall_ms(); }
+static double now_ms(void) { return 1e3 * aug_now(); }
 
 /* scratch: x (na), w (max(m, ns)), y/mark/q (n_b) */
 static int scratch(aug_amps *a, const aug_base *b, const aug_cum *c)

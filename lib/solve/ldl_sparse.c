@@ -6,12 +6,6 @@
 #include <cblas.h>
 #include "aug_solve.h"
 
-static int cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
 /* parent[j] = min{i > j : L(i,j) != 0}, -1 at a root: the elimination tree of L
    (paper 000 appendix def. 2; [Liu 1990]) */
 static void etree_of(aug_base *b)
@@ -203,7 +197,7 @@ int64_t aug_ldl_closure(const aug_base *b, const int32_t *start, int64_t ns, int
             out[k++] = v;
         }
     for (int64_t i = 0; i < k; i++) mark[out[i]] = 0;
-    qsort(out, (size_t)k, sizeof *out, cmp_i32);
+    qsort(out, (size_t)k, sizeof *out, aug_cmp_i32);
     return k;
 }
 

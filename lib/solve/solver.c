@@ -68,8 +68,8 @@ struct aug_solver {
     cholmod_dense *fB, *fX, *fY, *fE; /* full-solve timing workspaces */
     int singular[AUG_M_COUNT], converged[AUG_M_COUNT];
     int32_t step;
+    int bg_unsolved;     /* a method did not solve the background job's step */
 };
-
 
 aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
                            const aug_solver_opts *o, cholmod_common *cm, aug_err *e)
@@ -170,7 +170,7 @@ double aug_solver_full_solve_ms(aug_solver *s, int reps)
         if (!x || !w) reps = 0;
     }
     for (int r = 0; r < reps; r++) {
-        double t0 = aug_wall_ms();
+        double t0 = 1e3 * aug_now();
         if (b->Ls) {
             if (!cholmod_solve2(CHOLMOD_A, b->Ls, s->fB, NULL, &s->fX, NULL, &s->fY, &s->fE, s->cm)) {
                 reps = 0;
@@ -179,7 +179,7 @@ double aug_solver_full_solve_ms(aug_solver *s, int reps)
         } else {
             aug_ldl_solve_full(b, b->a, x, w);
         }
-        t[r] = aug_wall_ms() - t0;
+        t[r] = 1e3 * aug_now() - t0;
     }
     free(x);
     free(w);
@@ -189,8 +189,6 @@ double aug_solver_full_solve_ms(aug_solver *s, int reps)
 }
 int aug_solver_singular(const aug_solver *s, int m) { return s->singular[m]; }
 int aug_solver_converged(const aug_solver *s, int m) { return s->converged[m]; }
-const double *aug_solver_rhs(const aug_solver *s) { return s->f; }
-const aug_cutmat *aug_solver_cutmat(const aug_solver *s) { return &s->cut; }
 
 static int buffers(aug_solver *s, int64_t n)
 {
@@ -233,11 +231,197 @@ static double reldiff(const double *x, const double *r, int64_t n)
     return q > 0 ? sqrt(d / q) : sqrt(d);
 }
 
-/* Iterative refinement x += K_t^-1 (f_t - K_t x) with method m's own solve:
+static void put(aug_kv *kv, const char *k, double v) { aug_kv_set(kv, k, v); }
+
+/* ---- the methods: one row each of {step, solve, stats} ---- */
+
+/* what the session asks of one method's step */
+typedef struct step_req {
+    const aug_update *u;
+    const int32_t *out;  /* the output set, or NULL */
+    int64_t nout;
+    int full;            /* every DOF is wanted (no output set, or refinement) */
+} step_req;
+
+/* what one method's step gave */
+typedef struct step_res {
+    double *x;           /* the solution (its field) */
+    double t[4];         /* its phase times (ms) */
+    int ran;             /* the step ran (0: the step was known singular) */
+    int iters, conv, sing;
+    int64_t rows;        /* rowupdate: rows changed */
+    int rebuilt;         /* rowupdate: factor rebuilt */
+} step_res;
+
+enum {
+    M_DIRECT = 1,        /* a direct solve: refined, and failed when it stays above fail_tol */
+    M_BASED = 2,         /* on the shared base factor: swaps, partial (output-set) solves */
+    M_TARGET = 4         /* its residual lies on the rows K_t changed: amps_target applies */
+};
+
+typedef struct method {
+    /* x = K_t^-1 f_t (on the output set when !full, for the based methods) */
+    int (*step)(aug_solver *s, const step_req *q, step_res *r, aug_err *e);
+    /* x = K_t^-1 b with the operator the step left (refinement, the rest of x);
+       NULL: none */
+    int (*solve)(aug_solver *s, const double *b, double *x, aug_err *e);
+    /* the method's own sTAt and tIMe entries of the step */
+    void (*stats)(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm);
+    int flags;
+} method;
+
+/* the problem size of a method on the whole cut matrix: m = DOFs of K0
+   changed, k = DOFs added */
+static void cut_size(const aug_solver *s, aug_kv *st)
+{
+    put(st, "m", (double)aug_cum_morig(&s->cut.cum));
+    put(st, "k", (double)(s->cut.cum.n - s->cut.n0));
+}
+
+/* AMPS (paper 001 eqs. 3.8, 3.20-3.21): V over the reach, memoized H'K^-1H,
+   dense S2, the solution on the output closure */
+static int amps_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
+{
+    int rc = aug_amps_step(&s->amps, s->base, &s->cum, q->full ? NULL : q->out, q->nout, s->o.rcond_min,
+                           r->x, r->t, s->cm, e);
+    r->sing = s->amps.schur.singular;
+    return rc;
+}
+
+static int amps_solve(aug_solver *s, const double *b, double *x, aug_err *e)
+{
+    return aug_amps_solve_general(&s->amps, s->base, &s->cum, b, x, s->cm, e);
+}
+
+static void amps_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
+{
+    if (!r->ran) return;
+    const aug_amps *a = &s->amps;
+    put(st, "m", (double)aug_cum_morig(&s->cum));
+    put(st, "k", (double)(s->cum.n - s->cum.nb));
+    put(st, "m_active", (double)a->schur.na);
+    put(st, "m_new", (double)a->memo.m_new);
+    put(st, "reach_new", (double)a->memo.reach_new);
+    put(st, "closure_v", (double)a->closure_v);
+    put(st, "closure_out", (double)a->nq);
+    put(st, "s2_from", (double)a->schur.k0);
+    if (!isnan(a->schur.rcond)) put(st, "rcond", a->schur.rcond);
+    put(tm, "reach", r->t[0]), put(tm, "memo", r->t[1]), put(tm, "schur", r->t[2]), put(tm, "solve", r->t[3]);
+}
+
+/* unsymmetric augmented GMRES (paper 000) on the implicit Schur complement */
+static int gmres_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
+{
+    int rc = aug_gmres_step(s->gm, s->base, &s->cum, &s->cut, q->full ? NULL : q->out, q->nout, r->x, r->t, e);
+    r->iters = aug_gmres_iters(s->gm);
+    r->conv = aug_gmres_converged(s->gm);
+    return rc;
+}
+
+static int gmres_solve(aug_solver *s, const double *b, double *x, aug_err *e)
+{
+    return aug_gmres_solve_general(s->gm, s->base, &s->cum, b, x, e);
+}
+
+static void gmres_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
+{
+    if (!r->ran) return;
+    put(st, "m", (double)s->cum.ns);
+    put(st, "k", (double)(s->cum.n - s->cum.nb));
+    put(st, "closure_j", (double)aug_gmres_closure_j(s->gm));
+    put(st, "closure_h", (double)aug_gmres_closure_h(s->gm));
+    put(tm, "setup", r->t[0]), put(tm, "rhs", r->t[1]), put(tm, "iter", r->t[2]), put(tm, "solve", r->t[3]);
+}
+
+/* CHOLMOD re-factorization of K_t (numeric only when the pattern allows) */
+static int refactor_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
+{
+    (void)q;
+    int rc = aug_refactor_step(&s->rf, &s->cut, r->x, r->t, s->cm, e);
+    r->sing = s->rf.singular;
+    return rc;
+}
+
+static int refactor_solve(aug_solver *s, const double *b, double *x, aug_err *e)
+{
+    return aug_refactor_solve(&s->rf, b, x, s->cm, e);
+}
+
+static void refactor_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
+{
+    if (r->ran) put(st, "analyzed", s->rf.analyzed);
+    cut_size(s, st);
+    if (r->ran)
+        put(tm, "assemble", r->t[0]), put(tm, "analyze", r->t[1]), put(tm, "factor", r->t[2]),
+            put(tm, "solve", r->t[3]);
+}
+
+/* CHOLMOD row deletions / additions of the rows the step changed */
+static int rowupdate_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
+{
+    return aug_rowupd_step(s->ru, &s->cut, q->u, r->x, r->t, &r->rows, &r->rebuilt, &r->sing, s->cm, e);
+}
+
+static int rowupdate_solve(aug_solver *s, const double *b, double *x, aug_err *e)
+{
+    return aug_rowupd_solve(s->ru, s->cut.cum.n, b, x, s->cm, e);
+}
+
+static void rowupdate_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
+{
+    if (r->ran) put(st, "rows", (double)r->rows), put(st, "rebuilt", r->rebuilt);
+    cut_size(s, st);
+    if (r->ran) put(tm, "update", r->t[0]), put(tm, "solve", r->t[1]);
+}
+
+/* Jacobi PCG on K_t assembled, warm-started from the previous step's x
+   (new DOFs 0, the first step from the base solution) */
+static int pcg_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
+{
+    (void)q;
+    int64_t n = s->cut.cum.n;
+    double ta = 1e3 * aug_now();
+    cholmod_sparse *K = aug_cutmat_sparse(&s->cut, 0, s->cm);
+    if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    double tb = 1e3 * aug_now();
+    double *xp = aug_realloc(s->pcg_x, (size_t)n * sizeof *xp);
+    if (!xp) {
+        cholmod_free_sparse(&K, s->cm);
+        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    }
+    s->pcg_x = xp;
+    if (s->pcg_n == 0) memcpy(xp, s->base->a, (size_t)s->base->n * sizeof *xp), s->pcg_n = s->base->n;
+    for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0;
+    s->pcg_n = n;
+    double rr;
+    r->iters = aug_pcg(K, s->f, xp, s->o.tol, s->o.maxit, &r->conv, &r->sing, &rr, s->cm);
+    cholmod_free_sparse(&K, s->cm);
+    memcpy(r->x, xp, (size_t)n * sizeof *r->x);
+    r->t[0] = tb - ta, r->t[1] = 1e3 * aug_now() - tb;
+    return 0;
+}
+
+static void pcg_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
+{
+    cut_size(s, st);
+    if (r->ran) put(tm, "assemble", r->t[0]), put(tm, "iter", r->t[1]);
+}
+
+static const method methods[AUG_M_COUNT] = {
+    [AUG_M_AMPS] = {amps_step, amps_solve, amps_stats, M_DIRECT | M_BASED | M_TARGET},
+    [AUG_M_GMRES] = {gmres_step, gmres_solve, gmres_stats, M_BASED},
+    [AUG_M_REFACTOR] = {refactor_step, refactor_solve, refactor_stats, M_DIRECT},
+    [AUG_M_ROWUPDATE] = {rowupdate_step, rowupdate_solve, rowupdate_stats, M_DIRECT},
+    [AUG_M_PCG] = {pcg_step, NULL, pcg_stats, 0},
+};
+
+/* ---- one step of the session ---- */
+
+/* Iterative refinement x += K_t^-1 (f_t - K_t x) with the method's own solve:
    refine_iter steps when set, else while relres > refine_tol (at most
    refine_max steps, stopping when a step does not halve it). Returns the
    number of steps or -1; *rr: the final relres. */
-static int refine(aug_solver *s, int m, double *x, double *rr, aug_err *e)
+static int refine(aug_solver *s, const method *op, double *x, double *rr, aug_err *e)
 {
     int64_t n = s->cut.cum.n;
     int fixed = s->o.refine_iter > 0, it;
@@ -246,7 +430,7 @@ static int refine(aug_solver *s, int m, double *x, double *rr, aug_err *e)
         return 0;
     }
     double tol = s->o.refine_tol, once = 0; /* once: a single step above this */
-    if (!fixed && m == AUG_M_AMPS) {
+    if (!fixed && (op->flags & M_TARGET)) {
         /* the residual AMPS promises on well-conditioned meshes (amps_target):
            one step when it is missed (near-detached pieces), more only above
            refine_tol. AMPS's solution is one back-substitution off the rows of
@@ -263,12 +447,7 @@ static int refine(aug_solver *s, int m, double *x, double *rr, aug_err *e)
     for (it = 0; fixed ? it < s->o.refine_iter
                        : (r > tol || (it == 0 && once > 0 && r > once)) && it < s->o.refine_max;
          it++) {
-        int rc = 0;
-        if (m == AUG_M_AMPS) rc = aug_amps_solve_general(&s->amps, s->base, &s->cum, s->tmp, s->tmp2, s->cm, e);
-        else if (m == AUG_M_GMRES) rc = aug_gmres_solve_general(s->gm, s->base, &s->cum, s->tmp, s->tmp2, e);
-        else if (m == AUG_M_REFACTOR) rc = aug_refactor_solve(&s->rf, s->tmp, s->tmp2, s->cm, e);
-        else if (m == AUG_M_ROWUPDATE) rc = aug_rowupd_solve(s->ru, n, s->tmp, s->tmp2, s->cm, e);
-        if (rc) return -1;
+        if (op->solve(s, s->tmp, s->tmp2, e)) return -1;
         for (int64_t i = 0; i < n; i++) x[i] += s->tmp2[i];
         double r2 = aug_cutmat_residual(&s->cut, x, s->tmp);
         int better = r2 < 0.5 * r;
@@ -280,6 +459,124 @@ static int refine(aug_solver *s, int m, double *x, double *rr, aug_err *e)
     }
     *rr = r;
     return it;
+}
+
+/* a solve on the output set only: the rest of x from the method's whole-vector
+   solve (untimed, for the residual), the output-set values kept as solved */
+static int fill_rest(aug_solver *s, const method *op, const step_req *q, double *x, aug_err *e)
+{
+    int rc = op->solve(s, s->f, s->tmp2, e);
+    if (rc) return rc;
+    for (int64_t t = 0; t < q->nout; t++) s->tmp[t] = x[q->out[t]];
+    memcpy(x, s->tmp2, (size_t)s->cut.cum.n * sizeof *x);
+    for (int64_t t = 0; t < q->nout; t++) x[q->out[t]] = s->tmp[t];
+    return 0;
+}
+
+/* method m on the step: its solution, refined where it refines, judged
+   singular when detached, when its solve says so, or (a direct method) when
+   its relres stays above fail_tol; its sTAt and tIMe entries */
+static int run_method(aug_solver *s, int m, const step_req *q, int detached, int swapped, aug_err *e)
+{
+    const method *op = &methods[m];
+    aug_kv *st = &s->stat[m], *tm = &s->time[m];
+    int64_t n = s->cut.cum.n;
+    step_res r = {.x = s->field[m], .conv = 1, .sing = detached};
+    double t0 = 1e3 * aug_now();
+    int rc;
+    aug_kv_init(st, aug_method_names[m]);
+    aug_kv_init(tm, aug_method_names[m]);
+    memset(r.x, 0, (size_t)n * sizeof *r.x);
+    put(st, "n", (double)n);
+    put(st, "m_step", q->u->m);
+    put(st, "k_step", q->u->k);
+    if (!detached) {
+        r.ran = 1;
+        if ((rc = op->step(s, q, &r, e))) return rc;
+    }
+    op->stats(s, &r, st, tm);
+    int nref = 0;
+    double rref = NAN; /* the relres refine() computed for x, if it did */
+    if (!r.sing && q->full && op->solve && ((op->flags & M_DIRECT) || s->o.refine_iter > 0)) {
+        double tr = 1e3 * aug_now();
+        if ((nref = refine(s, op, r.x, &rref, e)) < 0) return e->code;
+        if (nref) put(tm, "refine", 1e3 * aug_now() - tr);
+    }
+    double total = 1e3 * aug_now() - t0;
+    put(st, "iters", r.iters);
+    put(st, "refine", nref);
+    if (!r.sing && !q->full && (op->flags & M_BASED) && (rc = fill_rest(s, op, q, r.x, e))) return rc;
+    double rr = r.sing ? NAN : !isnan(rref) ? rref : aug_cutmat_relres(&s->cut, r.x);
+    /* a direct method that cannot reach fail_tol, even refined, met a
+       numerically singular K_t: report it, never the number */
+    if (!r.sing && (op->flags & M_DIRECT) && !(rr <= s->o.fail_tol)) r.sing = 1;
+    put(st, "relres", r.sing ? NAN : rr);
+    put(st, "converged", r.sing ? 0 : r.conv);
+    put(st, "singular", r.sing);
+    if (op->flags & M_BASED) {
+        put(st, "swapped", swapped);
+        put(st, "base_step", s->base->step);
+    }
+    put(tm, "time_ms", total);
+    s->singular[m] = r.sing;
+    s->converged[m] = !r.sing && r.conv;
+    return 0;
+}
+
+/* The background job is joined once its factor is ready (or bg_lag steps
+   after its start) and its factor becomes the base (*swapped). A job that
+   failed because the matrix of its step is not positive definite, on a step
+   some method reported singular or not converged, leaves the base as it is:
+   the step said so already. Any other failure (the matrix of a step every
+   method solved is not positive definite, or out of memory) is the caller's
+   error. */
+static int join_background(aug_solver *s, int *swapped, aug_err *e)
+{
+    *swapped = 0;
+    if (!s->bg || !aug_bg_running(s->bg)) return 0;
+    if (!aug_bg_done(s->bg) && !(s->o.bg_lag > 0 && s->step - aug_bg_step(s->bg) >= s->o.bg_lag)) return 0;
+    aug_err be;
+    aug_base *nb = aug_bg_join(s->bg, &be);
+    if (!nb) {
+        if (be.code == AUG_ESINGULAR && s->bg_unsolved) return 0;
+        *e = be;
+        return e->code;
+    }
+    if (swap_base(s, nb, e)) return e->code;
+    *swapped = 1;
+    return 0;
+}
+
+/* the next background job starts from this step's matrix, with the base's
+   ordering extended by the DOFs added since it ordered last; unsolved: some
+   method did not solve this step (singular or not converged) */
+static int start_background(aug_solver *s, int unsolved, aug_err *e)
+{
+    double tb = 1e3 * aug_now();
+    cholmod_sparse *K = aug_cutmat_sparse(&s->cut, 0, s->cm);
+    if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    int64_t nk = (int64_t)K->nrow, nb = s->base->n;
+    int32_t *perm = aug_malloc((size_t)(nk + 1) * sizeof *perm);
+    if (!perm) {
+        cholmod_free_sparse(&K, s->cm);
+        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    }
+    memcpy(perm, s->base->perm, (size_t)nb * sizeof *perm);
+    for (int64_t i = nb; i < nk; i++) perm[i] = (int32_t)i;
+    int amps = s->use[AUG_M_AMPS] ? 1 + s->o.reach_cholmod : 0;
+    int rc = aug_bg_start(s->bg, K, s->f, perm, s->step, amps, e);
+    free(perm);
+    if (rc) {
+        cholmod_free_sparse(&K, s->cm);
+        return e->code;
+    }
+    s->bg_unsolved = unsolved;
+    double tsnap = 1e3 * aug_now() - tb;
+    for (int oi = 0; oi < s->o.nmeth; oi++) {
+        int m = s->o.order[oi];
+        if (methods[m].flags & M_BASED) put(&s->time[m], "bg_snapshot", tsnap);
+    }
+    return 0;
 }
 
 /* fresh CHOLMOD solve of K_t (the --check reference); 1 if K_t is not SPD */
@@ -298,177 +595,43 @@ static int direct_ref(aug_solver *s, aug_err *e)
     return rc ? -1 : sing;
 }
 
-static void put(aug_kv *kv, const char *k, double v) { aug_kv_set(kv, k, v); }
+/* --check: every method's solution against a fresh direct solve of K_t */
+static int check_direct(aug_solver *s, aug_err *e)
+{
+    int ds = direct_ref(s, e);
+    if (ds < 0) return e->code;
+    for (int oi = 0; oi < s->o.nmeth; oi++) {
+        int m = s->o.order[oi];
+        put(&s->stat[m], "err_direct", ds || s->singular[m] ? NAN : reldiff(s->field[m], s->ref, s->cut.cum.n));
+        put(&s->stat[m], "direct_spd", !ds);
+    }
+    return 0;
+}
 
+/* One step: K_t and f_t (AMPS eq. 3.1), the background factor swapped in when
+   it is ready, the step composed into the update relative to the base, then
+   every requested method in order, the --check reference, and the next
+   background job. */
 int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int64_t nout,
                     int flags, aug_err *e)
 {
     s->step = u->step;
     if (aug_cutmat_apply(&s->cut, u, e)) return e->code;
-    int64_t n = s->cut.cum.n;
-    if (buffers(s, n)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    if (buffers(s, s->cut.cum.n)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     aug_cutmat_rhs(&s->cut, s->f);
-    int swapped = 0;
-    if (s->bg && aug_bg_running(s->bg) &&
-        (aug_bg_done(s->bg) || (s->o.bg_lag > 0 && s->step - aug_bg_step(s->bg) >= s->o.bg_lag))) {
-        aug_err be;
-        aug_base *nb = aug_bg_join(s->bg, &be);
-        if (nb) {
-            if (swap_base(s, nb, e)) return e->code;
-            swapped = 1;
-        }
-    }
+    int swapped, rc;
+    if ((rc = join_background(s, &swapped, e))) return rc;
     if (aug_cum_apply(&s->cum, u, e)) return e->code;
     if (s->bg && aug_bg_running(s->bg) && aug_bg_push(s->bg, u, e)) return e->code;
     /* a step that detaches a piece without Dirichlet support is singular */
     int detached = (flags & AUG_STEP_DETACHED) && !(flags & (AUG_STEP_PINNED | AUG_STEP_DROPPED));
-    int nsing = 0;
+    step_req q = {u, out, nout, !out || s->o.refine_iter > 0};
+    int unsolved = 0;
     for (int oi = 0; oi < s->o.nmeth; oi++) {
-        int m = s->o.order[oi];
-        aug_kv *st = &s->stat[m], *tm = &s->time[m];
-        aug_kv_init(st, aug_method_names[m]);
-        aug_kv_init(tm, aug_method_names[m]);
-        double *x = s->field[m], t[4] = {0, 0, 0, 0}, t0 = aug_wall_ms();
-        int iters = 0, conv = 1, sing = detached, rc = 0;
-        int full = !out || s->o.refine_iter > 0;
-        memset(x, 0, (size_t)n * sizeof *x);
-        put(st, "n", (double)n);
-        put(st, "m_step", u->m);
-        put(st, "k_step", u->k);
-        if (sing) {
-        } else if (m == AUG_M_AMPS) {
-            rc = aug_amps_step(&s->amps, s->base, &s->cum, full ? NULL : out, nout, s->o.rcond_min, x, t,
-                               s->cm, e);
-            sing = s->amps.schur.singular;
-            put(st, "m", (double)aug_cum_morig(&s->cum));
-            put(st, "k", (double)(s->cum.n - s->cum.nb));
-            put(st, "m_active", (double)s->amps.schur.na);
-            put(st, "m_new", (double)s->amps.memo.m_new);
-            put(st, "reach_new", (double)s->amps.memo.reach_new);
-            put(st, "closure_v", (double)s->amps.closure_v);
-            put(st, "closure_out", (double)s->amps.nq);
-            put(st, "s2_from", (double)s->amps.schur.k0);
-            if (!isnan(s->amps.schur.rcond)) put(st, "rcond", s->amps.schur.rcond);
-            put(tm, "reach", t[0]), put(tm, "memo", t[1]), put(tm, "schur", t[2]), put(tm, "solve", t[3]);
-        } else if (m == AUG_M_GMRES) {
-            rc = aug_gmres_step(s->gm, s->base, &s->cum, &s->cut, full ? NULL : out, nout, x, t, e);
-            iters = aug_gmres_iters(s->gm);
-            conv = aug_gmres_converged(s->gm);
-            put(st, "m", (double)s->cum.ns);
-            put(st, "k", (double)(s->cum.n - s->cum.nb));
-            put(st, "closure_j", (double)aug_gmres_closure_j(s->gm));
-            put(st, "closure_h", (double)aug_gmres_closure_h(s->gm));
-            put(tm, "setup", t[0]), put(tm, "rhs", t[1]), put(tm, "iter", t[2]), put(tm, "solve", t[3]);
-        } else if (m == AUG_M_REFACTOR) {
-            rc = aug_refactor_step(&s->rf, &s->cut, x, t, s->cm, e);
-            sing = s->rf.singular;
-            put(st, "analyzed", s->rf.analyzed);
-            put(tm, "assemble", t[0]), put(tm, "analyze", t[1]), put(tm, "factor", t[2]), put(tm, "solve", t[3]);
-        } else if (m == AUG_M_ROWUPDATE) {
-            int64_t rows = 0;
-            int rebuilt = 0;
-            rc = aug_rowupd_step(s->ru, &s->cut, u, x, t, &rows, &rebuilt, &sing, s->cm, e);
-            put(st, "rows", (double)rows);
-            put(st, "rebuilt", rebuilt);
-            put(tm, "update", t[0]), put(tm, "solve", t[1]);
-        } else {
-            double ta = aug_wall_ms();
-            cholmod_sparse *K = aug_cutmat_sparse(&s->cut, 0, s->cm);
-            if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-            double tb = aug_wall_ms();
-            double *xp = aug_realloc(s->pcg_x, (size_t)n * sizeof *xp);
-            if (!xp) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-            s->pcg_x = xp;
-            if (s->pcg_n == 0) memcpy(xp, s->base->a, (size_t)s->base->n * sizeof *xp), s->pcg_n = s->base->n;
-            for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0; /* warm start: the previous step */
-            s->pcg_n = n;
-            int bd = 0;
-            double rr;
-            iters = aug_pcg(K, s->f, xp, s->o.tol, s->o.maxit, &conv, &bd, &rr, s->cm);
-            cholmod_free_sparse(&K, s->cm);
-            sing = bd;
-            memcpy(x, xp, (size_t)n * sizeof *x);
-            put(tm, "assemble", tb - ta), put(tm, "iter", aug_wall_ms() - tb);
-        }
-        if (rc) return rc;
-        int nref = 0, direct = m == AUG_M_AMPS || m == AUG_M_REFACTOR || m == AUG_M_ROWUPDATE;
-        double rref = NAN; /* the relres refine() computed for x, if it did */
-        if (!sing && full && (direct || (m == AUG_M_GMRES && s->o.refine_iter > 0))) {
-            double tr = aug_wall_ms();
-            if ((nref = refine(s, m, x, &rref, e)) < 0) return e->code;
-            if (nref) put(tm, "refine", aug_wall_ms() - tr);
-        }
-        double total = aug_wall_ms() - t0;
-        if (m == AUG_M_REFACTOR || m == AUG_M_PCG || m == AUG_M_ROWUPDATE) {
-            put(st, "m", (double)aug_cum_morig(&s->cut.cum));
-            put(st, "k", (double)(n - s->cut.n0));
-        }
-        put(st, "iters", iters);
-        put(st, "refine", nref);
-        /* untimed: the whole vector for the residual when only outputs were solved */
-        if (!sing && !full && m == AUG_M_AMPS)
-            rc = aug_amps_solve_general(&s->amps, s->base, &s->cum, s->f, s->tmp2, s->cm, e);
-        if (!sing && !full && m == AUG_M_GMRES)
-            rc = aug_gmres_solve_general(s->gm, s->base, &s->cum, s->f, s->tmp2, e);
-        if (rc) return rc;
-        if (!sing && !full && (m == AUG_M_AMPS || m == AUG_M_GMRES)) {
-            /* keep the output-set values as solved; fill the rest */
-            for (int64_t t2 = 0; t2 < nout; t2++) s->tmp[t2] = x[out[t2]];
-            memcpy(x, s->tmp2, (size_t)n * sizeof *x);
-            for (int64_t t2 = 0; t2 < nout; t2++) x[out[t2]] = s->tmp[t2];
-        }
-        double rr = sing ? NAN : !isnan(rref) ? rref : aug_cutmat_relres(&s->cut, x);
-        /* a direct method that cannot reach fail_tol, even refined, met a
-           numerically singular K_t: report it, never the number */
-        if (!sing && direct && !(rr <= s->o.fail_tol)) sing = 1;
-        put(st, "relres", sing ? NAN : rr);
-        put(st, "converged", sing ? 0 : conv);
-        put(st, "singular", sing);
-        if (m == AUG_M_AMPS || m == AUG_M_GMRES) {
-            put(st, "swapped", swapped);
-            put(st, "base_step", s->base->step);
-        }
-        put(tm, "time_ms", total);
-        s->singular[m] = sing;
-        s->converged[m] = !sing && conv;
-        nsing += sing;
+        if ((rc = run_method(s, s->o.order[oi], &q, detached, swapped, e))) return rc;
+        unsolved |= !s->converged[s->o.order[oi]];
     }
-    if (s->o.check) {
-        int ds = direct_ref(s, e);
-        if (ds < 0) return e->code;
-        for (int oi = 0; oi < s->o.nmeth; oi++) {
-            int m = s->o.order[oi];
-            put(&s->stat[m], "err_direct", ds || s->singular[m] ? NAN : reldiff(s->field[m], s->ref, n));
-            put(&s->stat[m], "direct_spd", !ds);
-        }
-    }
-    /* the next background job starts from this step's matrix */
-    if (s->bg && !aug_bg_running(s->bg)) {
-        double tb = aug_wall_ms();
-        cholmod_sparse *K = aug_cutmat_sparse(&s->cut, 0, s->cm);
-        if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-        /* reuse the base's ordering, the DOFs added since it ordered last */
-        int64_t nk = (int64_t)K->nrow, nb = s->base->n;
-        int32_t *perm = aug_malloc((size_t)(nk + 1) * sizeof *perm);
-        if (!perm) {
-            cholmod_free_sparse(&K, s->cm);
-            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-        }
-        memcpy(perm, s->base->perm, (size_t)nb * sizeof *perm);
-        for (int64_t i = nb; i < nk; i++) perm[i] = (int32_t)i;
-        int amps = s->use[AUG_M_AMPS] ? 1 + s->o.reach_cholmod : 0;
-        int rc = aug_bg_start(s->bg, K, s->f, perm, s->step, amps, e);
-        free(perm);
-        if (rc) {
-            cholmod_free_sparse(&K, s->cm);
-            return e->code;
-        }
-        double tsnap = aug_wall_ms() - tb;
-        for (int oi = 0; oi < s->o.nmeth; oi++) {
-            int m = s->o.order[oi];
-            if (m == AUG_M_AMPS || m == AUG_M_GMRES) put(&s->time[m], "bg_snapshot", tsnap);
-        }
-    }
-    (void)nsing;
+    if (s->o.check && (rc = check_direct(s, e))) return rc;
+    if (s->bg && !aug_bg_running(s->bg)) return start_background(s, unsolved, e);
     return 0;
 }

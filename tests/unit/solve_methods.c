@@ -1,7 +1,8 @@
 /* Every solve-aug method (amps, gmres with each preconditioner, refactor,
    rowupdate, pcg) against fresh CHOLMOD solves over random cut sequences;
    background swaps give the same fields; iterative refinement is counted;
-   a singular step is reported by every method. */
+   a singular step is reported by every method; a failed background
+   re-factorization is an error unless a method already reported its step. */
 #include "t.h"
 #include "solve_gen.h"
 
@@ -181,6 +182,17 @@ static void refinement_counted(void)
     gsl_rng_free(r);
 }
 
+/* step 1 orphans a node: K_t singular */
+static void orphan_step(gen *g, aug_update *u)
+{
+    gen_snap sn;
+    gen_snapshot(g, &sn);
+    gen_cut_node(g, 3 * 4 * 4 + 4 + 1, 1.5, 1);
+    gen_assemble(g);
+    gen_diff(g, sn.K, sn.ld, sn.f, sn.n, 1, u);
+    gen_snap_free(&sn);
+}
+
 /* an orphaned node: every method reports the step singular, none returns a field */
 static void singular_reported(void)
 {
@@ -193,13 +205,8 @@ static void singular_reported(void)
     o.nmeth = aug_parse_methods("amps,gmres,refactor,rowupdate,pcg", o.order);
     o.maxit = 2000;
     aug_solver *s = make(&g, &o);
-    gen_snap sn;
-    gen_snapshot(&g, &sn);
-    gen_cut_node(&g, 3 * 4 * 4 + 4 + 1, 1.5, 1);
-    gen_assemble(&g);
     aug_update u;
-    gen_diff(&g, sn.K, sn.ld, sn.f, sn.n, 1, &u);
-    gen_snap_free(&sn);
+    orphan_step(&g, &u);
     aug_err e;
     T_CHECK(aug_solver_step(s, &u, NULL, 0, 0, &e) == 0, "%s", e.msg);
     aug_update_free(&u);
@@ -219,6 +226,74 @@ static void singular_reported(void)
     gsl_rng_free(r);
 }
 
+/* an update of one old DOF: K_t = K_{t-1} - e_i c e_i' (c = 0: no change) */
+static void diag_update(aug_update *u, int32_t step, int32_t i, double c)
+{
+    aug_update_init(u);
+    u->step = step, u->m = 1, u->k = 0;
+    u->H = malloc(sizeof *u->H), u->E = malloc(sizeof *u->E), u->df = calloc(1, sizeof *u->df);
+    u->H[0] = i, u->E[0] = c;
+}
+
+/* methods on a 3x3x4 mesh with a background job joined one step after it starts */
+static aug_solver *lag1_session(gen *g, gsl_rng *r, unsigned long seed, const char *methods)
+{
+    gsl_rng_set(r, seed);
+    gen_init(g, 3, 3, 4, 1.0, r);
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = aug_parse_methods(methods, o.order);
+    o.background = 1, o.bg_lag = 1;
+    return make(g, &o);
+}
+
+/* the background factors the matrix of a step AMPS reported singular: the
+   failed job leaves the base, the steps go on without an error */
+static void background_singular_step(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gen g;
+    aug_solver *s = lag1_session(&g, r, 71, "amps");
+    aug_update u;
+    orphan_step(&g, &u);
+    aug_err e;
+    T_CHECK(s && aug_solver_step(s, &u, NULL, 0, 0, &e) == 0, "step 1: %s", e.msg);
+    aug_update_free(&u);
+    T_CHECK(s && aug_solver_singular(s, AUG_M_AMPS), "step 1 not singular");
+    for (int t = 2; t <= 3 && s; t++) {
+        diag_update(&u, t, 0, 0.0);
+        T_CHECK(aug_solver_step(s, &u, NULL, 0, 0, &e) == 0, "step %d: %s", t, e.msg);
+        aug_update_free(&u);
+        T_CHECK(aug_kv_get(aug_solver_stat(s, AUG_M_AMPS), "swapped", 1) == 0, "step %d swapped", t);
+    }
+    aug_solver_free(s);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
+/* K_t indefinite (a diagonal entry turned negative) yet solved by GMRES: the
+   background's failure to factor it reaches the caller of the next step */
+static void background_failure_reported(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gen g;
+    aug_solver *s = lag1_session(&g, r, 81, "gmres");
+    aug_update u;
+    aug_err e;
+    diag_update(&u, 1, 0, 2 * g.K[0]);
+    T_CHECK(s && aug_solver_step(s, &u, NULL, 0, 0, &e) == 0, "step 1: %s", e.msg);
+    aug_update_free(&u);
+    T_CHECK(s && aug_solver_converged(s, AUG_M_GMRES), "gmres did not solve the indefinite step");
+    diag_update(&u, 2, 0, 0.0);
+    int rc = s ? aug_solver_step(s, &u, NULL, 0, 0, &e) : 0;
+    aug_update_free(&u);
+    T_CHECK(rc == AUG_ESINGULAR && e.code == AUG_ESINGULAR, "step 2 returned %d", rc);
+    T_CHECK(rc == 0 || strstr(e.msg, "background"), "message: %s", e.msg);
+    aug_solver_free(s);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
 int main(void)
 {
     cholmod_start(&cm);
@@ -230,6 +305,8 @@ int main(void)
     T_RUN(background_same_fields);
     T_RUN(refinement_counted);
     T_RUN(singular_reported);
+    T_RUN(background_singular_step);
+    T_RUN(background_failure_reported);
     cholmod_finish(&cm);
     T_EXIT();
 }

@@ -1,7 +1,7 @@
 /* Open-addressing hash map from an unordered node pair (an edge) to two int32 slots. */
 #include <stdlib.h>
 #include <string.h>
-#include "aug_refine.h"
+#include "aug_cut.h"
 
 #define EMPTY 0
 #define GONE UINT64_MAX
