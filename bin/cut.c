@@ -186,7 +186,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
 }
 
 /* --constrain of step k: a set or a box, to 0 or to given values */
-static void constrain(aug_tool *t, const options *o, aug_mesh *m, long k, aug_bdelta *bc)
+static void constrain_step(aug_tool *t, const options *o, aug_mesh *m, long k, aug_bdelta *bc)
 {
     aug_err e;
     for (int i = 0; i < o->ncon; i++) {
@@ -265,7 +265,7 @@ int main(int argc, char **argv)
             aug_tool_check(&t, aug_path_step(&pp, &c.ed, s_to, &st.seg, &st.nseg, &e), &e);
         }
         aug_tool_check(&t, aug_cutter_apply(&c, &st, &e), &e);
-        constrain(&t, &o, m, k, &st.bc);
+        constrain_step(&t, &o, m, k, &st.bc);
         aug_tool_check(&t, aug_cutter_update(&c, &st, &e), &e);
         double ms = 1e3 * (aug_now() - t0);
         int64_t n = aug_cut_order(m, rp.nn0, rp.nfree0);

@@ -46,7 +46,6 @@ void aug_err_clear(aug_err *e);
 /* Fill e (code, record, type, printf-style message); returns code. */
 int aug_err_set(aug_err *e, int code, long record, const char *type, const char *fmt, ...)
     __attribute__((format(printf, 5, 6)));
-const char *aug_strerror(int code);
 
 /* Monotonic wall clock in seconds (clock.c). */
 double aug_now(void);
@@ -125,7 +124,6 @@ const char *aug_reader_producer(const aug_reader *r);
    wire length (length|type|body|crc). */
 void aug_reader_head(const aug_reader *r, uint32_t *minor, uint32_t *flags, uint64_t *len,
                      uint64_t *wirelen);
-long aug_reader_count(const aug_reader *r);  /* records read so far */
 void aug_reader_free(aug_reader *r);
 void aug_rec_free(aug_rec *rec);             /* frees buffers, not rec itself */
 

@@ -73,12 +73,6 @@ int aug_read_dofmap(const aug_rec *rec, int *dim, int64_t *ndof, int64_t *nfree,
     return 0;
 }
 
-static int cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
 /* KMAT: i32 which, i32 stype, i64 n, i64 nnz, i64 colptr[n+1], i32 rowind[nnz],
    f64 value[nnz]; columns written with rows increasing (sorted here if A is not). */
 int aug_write_sparse(aug_writer *w, int which, const cholmod_sparse *A, aug_err *e)
@@ -127,7 +121,7 @@ int aug_write_sparse(aug_writer *w, int which, const cholmod_sparse *A, aug_err 
         for (int64_t j = 0; j < n; j++) {
             int len = A->packed ? Ap[j + 1] - Ap[j] : Anz[j];
             for (int q = 0; q < len; q++) key[2 * q] = Ai[Ap[j] + q], key[2 * q + 1] = Ap[j] + q;
-            qsort(key, (size_t)len, 2 * sizeof *key, cmp_i32);
+            qsort(key, (size_t)len, 2 * sizeof *key, aug_cmp_i32);
             for (int q = 0; q < len; q++) {
                 if (pass == 0) aug_buf_i32(&b, key[2 * q]);
                 else aug_buf_f64(&b, Ax[key[2 * q + 1]]);

@@ -48,12 +48,6 @@ static int append_i32(int32_t **a, int64_t *n, const int32_t *v, int64_t k)
     return 0;
 }
 
-static int cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
 /* new node i (index nn0 + i) inherits parent's constraints, sets and output membership */
 static int inherit(aug_mesh *m, int64_t nn0, const aug_mdelta *d)
 {
@@ -74,12 +68,12 @@ static int inherit(aug_mesh *m, int64_t nn0, const aug_mdelta *d)
         }
         for (int s = 0; s < m->nset; s++) {
             aug_set *S = &m->sets[s];
-            if (bsearch(&p, S->nodes, (size_t)S->n, sizeof p, cmp_i32) &&
+            if (bsearch(&p, S->nodes, (size_t)S->n, sizeof p, aug_cmp_i32) &&
                 append_i32(&S->nodes, &S->n, &node, 1))
                 return -1;
         }
         if (m->out_kind != AUG_OUT_ALL &&
-            bsearch(&p, m->out_nodes, (size_t)m->nout, sizeof p, cmp_i32) &&
+            bsearch(&p, m->out_nodes, (size_t)m->nout, sizeof p, aug_cmp_i32) &&
             append_i32(&m->out_nodes, &m->nout, &node, 1))
             return -1;
     }

@@ -27,13 +27,3 @@ int aug_err_set(aug_err *e, int code, long record, const char *type, const char 
     va_end(ap);
     return code;
 }
-
-const char *aug_strerror(int code)
-{
-    static const char *s[] = {"ok", "i/o error", "bad signature", "truncated stream",
-                              "CRC mismatch", "impossible length", "bad record type",
-                              "record order", "unsupported version", "malformed payload",
-                              "out of memory", "zlib error", "invalid data",
-                              "singular matrix", "no convergence", "invalid argument"};
-    return code >= 0 && code <= AUG_EUSAGE ? s[code] : "unknown error";
-}

@@ -386,7 +386,6 @@ void aug_reader_head(const aug_reader *r, uint32_t *minor, uint32_t *flags, uint
     *len = r->head_len;
     *wirelen = r->head_wirelen;
 }
-long aug_reader_count(const aug_reader *r) { return r->count; }
 void aug_reader_free(aug_reader *r) { free(r); }
 
 void aug_rec_free(aug_rec *rec)
