@@ -20,9 +20,3 @@ int64_t aug_find_i32(const int32_t *a, int64_t n, int32_t v)
     }
     return -1;
 }
-
-int aug_cmp_i32(const void *a, const void *b)
-{
-    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
