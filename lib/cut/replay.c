@@ -145,10 +145,7 @@ int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
     aug_err_clear(e);
     if (aug_mesh_is_record(rec->type)) return aug_mesh_absorb(&r->mesh, rec, e);
     const aug_rectype *rt = aug_rectype_find(rec->type);
-    if (rt && rt->phase >= 2 && rt->phase <= 3 && aug_replay_start(r, e)) {
-        if (e->record < 0) e->record = rec->index, memcpy(e->type, rec->type, 5);
-        return e->code;
-    }
+    if (rt && rt->phase >= 2 && rt->phase <= 3 && aug_replay_start(r, e)) return e->code;
     if (rt && rt->perstep && rec->step > r->last_step) r->last_step = rec->step;
     if (!memcmp(rec->type, "DOFM", 4)) return add_dofm(r, rec, e);
     if (!memcmp(rec->type, "MDLT", 4)) return add_mdlt(r, rec, e);
