@@ -249,6 +249,7 @@ int main(int argc, char **argv)
     } else {
         aug_path_cut_init(&pp, &o.path, o.mode, o.snap_tol);
     }
+    int64_t nseg = 0; /* segments of the path inside the mesh, over every step */
     for (long k = 1; k <= o.steps; k++) {
         int32_t step = rp.last_step + (int32_t)k;
         aug_cut_step st;
@@ -264,6 +265,7 @@ int main(int argc, char **argv)
             double s_to = o.path.total * (double)k / (double)o.steps;
             aug_tool_check(&t, aug_path_step(&pp, &c.ed, s_to, &st.seg, &st.nseg, &e), &e);
         }
+        nseg += st.nseg;
         aug_tool_check(&t, aug_cutter_apply(&c, &st, &e), &e);
         constrain_step(&t, &o, m, k, &st.bc);
         aug_tool_check(&t, aug_cutter_update(&c, &st, &e), &e);
@@ -272,6 +274,7 @@ int main(int argc, char **argv)
         aug_tool_check(&t, aug_cut_step_write(t.w, m, &st, o.stats, n, ms, &e), &e);
         aug_cut_step_free(&st);
     }
+    if (o.pathfile && nseg == 0) aug_tool_die(&t, "%s: --path %s misses the mesh", t.inname, o.pathfile);
     aug_tool_close(&t);
     aug_plane_free(&pc);
     aug_path_cut_free(&pp);

@@ -57,10 +57,13 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
 
 /* Records factor writes itself, or that a wholesale new matrix invalidates
    (formats/stream.md 3.1 rule 3): upstream ones are dropped. */
+/* formats 3.1 rule 3: a new K invalidates every unsafe-to-copy record of the
+   matrix and step phases, and every unknown unsafe-to-copy one */
 static int replaced(const aug_rec *rec)
 {
     const aug_rectype *rt = aug_rectype_find(rec->type);
-    return rt && rt->phase >= 2 && rt->phase <= 3 && !aug_type_safe_to_copy(rec->type);
+    if (aug_type_safe_to_copy(rec->type)) return 0;
+    return !rt || (rt->phase >= 2 && rt->phase <= 3);
 }
 
 /* the scene's records, computed once the mesh is complete */

@@ -371,15 +371,20 @@ void aug_solver_opts_default(aug_solver_opts *o);
 
 /* The original system read from a stream (lib/solve/sys0_rec.c): K0, f0 and
    the factor L0 of KMAT/FVEC/FACT, in one cholmod_common that the struct owns,
-   and the solver made from them at the first update. */
+   and the solver made from them at the first update, once they agree: orders
+   equal to DOFM's free count, and L0 a factor of K0 (the relres of its solve
+   of f0 at most AUG_SYS0_TOL), else an error naming both records. */
 typedef struct aug_sys0 {
     cholmod_common *cm;
     cholmod_sparse *K0;
     double *f0;
     int64_t nf0;
     cholmod_factor *L0;
+    long k_index, f_index, l_index; /* their record indices */
     struct aug_solver *solver;
 } aug_sys0;
+/* largest relres of K0 L0^-1 f0 that lets a FACT pass as K0's factor */
+#define AUG_SYS0_TOL 1e-4
 int aug_sys0_init(aug_sys0 *s, aug_err *e);
 void aug_sys0_free(aug_sys0 *s);
 int aug_sys0_add(aug_sys0 *s, const aug_rec *rec, aug_err *e);

@@ -213,6 +213,8 @@ void aug_txt_rows_i32(FILE *o, const char *label, aug_cur *c, uint64_t rows, int
 void aug_txt_rows_f64(FILE *o, const char *label, aug_cur *c, uint64_t rows, int cols);
 void aug_txt_hex(FILE *o, const aug_rec *rec);
 aug_cur aug_cur_mem(const void *p, uint64_t bytes);
+/* dst = src with control bytes written \xNN (names from records in text for people) */
+const char *aug_txt_clean(char *dst, size_t cap, const char *src);
 
 /* Named-value records (cOND sTAt tIMe qUAl): a tag (method or tool name) and
    up to AUG_KV_MAX (key, float64) pairs, in insertion order. */

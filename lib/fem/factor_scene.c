@@ -1,6 +1,7 @@
 /* factor's job on the intact scene: assemble K (and M) over the free DOFs, order
    and factor K = L D L' with CHOLMOD, solve K a = f, estimate cond(K), and
    write DOFM, KMAT, FVEC, FACT, cOND, the step-0 fELD, sTAt and tIMe. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "aug_fem.h"
@@ -49,6 +50,11 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
     t0 = aug_now();
     if (aug_solve(r->K, r->L, r->f, r->a, &r->relres, cm, e)) return e->code;
     r->t_sol = aug_now() - t0;
+    /* loads that overflow the solve (|f| ~ 1e306) give no field, not an infinite one */
+    for (int64_t i = 0; i < r->nfree; i++)
+        if (!isfinite(r->a[i]) || !isfinite(r->relres))
+            return aug_err_set(e, AUG_EDATA, -1, "LOAD", "the solution of K a = f is not finite "
+                               "(loads or material values out of range)");
     if (!o->no_cond) {
         t0 = aug_now();
         if (aug_cond_estimate(r->K, r->L, o->cond_tol, &r->cond, cm, e)) return e->code;

@@ -10,6 +10,11 @@ int aug_write_field(aug_writer *w, int32_t step, int32_t kind, int dim, int64_t 
                     const int32_t *nodes, const double *u, aug_err *e)
 {
     aug_err_clear(e);
+    for (int64_t i = 0; i < count * dim; i++)
+        if (!isfinite(u[i]))
+            return aug_err_set(e, AUG_EDATA, aug_writer_count(w), "fELD",
+                               "node %lld: value not finite (no field is written)",
+                               (long long)(nodes ? nodes[i / dim] : i / dim));
     aug_buf b;
     aug_buf_init(&b);
     aug_buf_i32(&b, kind);

@@ -74,6 +74,8 @@ int aug_read_mdelta(const aug_rec *rec, int dim, int nv, aug_mdelta *d, aug_err 
     aug_cur_i32v(&c, d->mat_add, (uint64_t)d->nadd);
     d->flags = aug_cur_i32(&c);
     aug_cur_i32(&c);
+    if (d->flags & ~(AUG_STEP_DETACHED | AUG_STEP_PINNED | AUG_STEP_DROPPED))
+        return BAD("unknown step flags 0x%x", (unsigned)d->flags);
     if (!c.ok || c.pos != c.len) return BAD("payload size does not match its counts");
     return 0;
 nomem:

@@ -123,6 +123,16 @@ int aug_mesh_apply(aug_mesh *m, const aug_mdelta *d, aug_err *e)
         m->ne += d->nadd;
     }
     if (inherit(m, nn0, d)) goto nomem;
+    /* a re-wired or added element must keep a positive measure (the mesh is
+       not to be used after this error) */
+    for (int64_t i = 0; i < d->nmod + d->nadd; i++) {
+        int64_t el = i < d->nmod ? d->elem[i] : m->ne - d->nadd + (i - d->nmod);
+        double v = aug_elem_measure(m, el);
+        if (!(v > 0))
+            return aug_err_set(e, AUG_EDATA, -1, "MDLT", "step %d: element %lld is inverted or "
+                               "degenerate after the step (%s %.3g)", (int)d->step, (long long)el,
+                               dim == 3 ? "volume" : "area", v);
+    }
     return 0;
 nomem:
     return aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");

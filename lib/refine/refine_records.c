@@ -27,6 +27,12 @@ static int collect(const aug_rec *recs, int n, int dim, group *g, aug_err *e)
                 return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "a second %s in step %d",
                                    rec->type, (int)rec->step);
             *slot = i;
+            if (slot == &g->iup) { /* a malformed UPDT is refused, never rebuilt */
+                aug_update u;
+                int rc = aug_read_update(rec, &u, e);
+                aug_update_free(&u);
+                if (rc) return rc;
+            }
         } else if (!memcmp(rec->type, "pATH", 4)) {
             aug_pathrec p;
             if (aug_read_path(rec, &p, e)) {

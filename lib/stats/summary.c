@@ -472,7 +472,9 @@ static void print_mesh(FILE *o, const aug_summary *s)
             "elements");
     for (int i = 0; i < m->nmat; i++) {
         const aug_material *a = &m->mats[i];
-        fprintf(o, "  %3d %6d  %-20s %12.6g %8.4g %10.6g %8.4g %10lld\n", i, (int)a->id, a->name,
+        char nm[4 * AUG_NAME + 1];
+        fprintf(o, "  %3d %6d  %-20s %12.6g %8.4g %10.6g %8.4g %10lld\n", i, (int)a->id,
+                aug_txt_clean(nm, sizeof nm, a->name),
                 a->E, a->nu, a->rho, a->t, (long long)p->per_mat[i]);
     }
 }
@@ -482,8 +484,10 @@ static void print_scene(FILE *o, const aug_summary *s)
     const aug_mesh *m = &s->rp.mesh;
     const snap *p = &s->init;
     fprintf(o, "sets (%d)\n", m->nset);
+    char nm[4 * AUG_NAME + 1];
     for (int i = 0; i < m->nset; i++)
-        fprintf(o, "  %-24s %10lld nodes\n", m->sets[i].name, (long long)p->set_size[i]);
+        fprintf(o, "  %-24s %10lld nodes\n", aug_txt_clean(nm, sizeof nm, m->sets[i].name),
+                (long long)p->set_size[i]);
     if (m->have & AUG_HAVE_FIXD)
         fprintf(o, "constraints        %lld DOFs on %lld nodes (%lld prescribed non-zero)\n",
                 (long long)p->nfix, (long long)p->fix_nodes, (long long)p->fix_nonzero);
@@ -495,7 +499,8 @@ static void print_scene(FILE *o, const aug_summary *s)
     if (m->have & AUG_HAVE_OUTS) {
         static const char *kinds[] = {"all", "surface", "set"};
         fprintf(o, "output set         %s", kinds[m->out_kind]);
-        if (m->out_kind == AUG_OUT_SET) fprintf(o, " '%s'", m->out_name);
+        char nm[4 * AUG_NAME + 1];
+        if (m->out_kind == AUG_OUT_SET) fprintf(o, " '%s'", aug_txt_clean(nm, sizeof nm, m->out_name));
         if (m->out_kind == AUG_OUT_ALL && p->nout == 0) fprintf(o, " (all nodes)\n");
         else fprintf(o, " (%lld nodes)\n", (long long)p->nout);
     }

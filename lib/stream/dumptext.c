@@ -110,3 +110,15 @@ aug_cur aug_cur_mem(const void *p, uint64_t bytes)
     aug_cur c = {p, bytes, 0, 1};
     return c;
 }
+
+/* dst = src with control bytes (< 0x20, 0x7f) as \xNN, truncated to cap */
+const char *aug_txt_clean(char *dst, size_t cap, const char *src)
+{
+    size_t k = 0;
+    for (const unsigned char *p = (const unsigned char *)src; *p && k + 5 < cap; p++) {
+        if (*p < 0x20 || *p == 0x7f) k += (size_t)snprintf(dst + k, 5, "\\x%02x", *p);
+        else dst[k++] = (char)*p;
+    }
+    if (cap) dst[k < cap ? k : cap - 1] = 0;
+    return dst;
+}

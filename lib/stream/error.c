@@ -23,7 +23,16 @@ int aug_err_set(aug_err *e, int code, long record, const char *type, const char 
     snprintf(e->type, sizeof e->type, "%s", type ? type : "");
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(e->msg, sizeof e->msg, fmt, ap);
+    char raw[sizeof e->msg];
+    vsnprintf(raw, sizeof raw, fmt, ap);
     va_end(ap);
+    /* names from records may hold control bytes: \xNN, so that a message stays
+       one line and sends nothing to a terminal */
+    size_t k = 0;
+    for (const unsigned char *p = (const unsigned char *)raw; *p && k + 5 < sizeof e->msg; p++) {
+        if (*p < 0x20 || *p == 0x7f) k += (size_t)snprintf(e->msg + k, 5, "\\x%02x", *p);
+        else e->msg[k++] = (char)*p;
+    }
+    e->msg[k] = 0;
     return code;
 }

@@ -148,7 +148,7 @@ static int inflate_payload(aug_rec *rec, const unsigned char *src, uint64_t srcl
     uint64_t in_left = srclen, out_left = rawlen;
     const unsigned char *ip = src;
     unsigned char *op = rec->data;
-    int rc = Z_OK;
+    int rc = Z_OK, extra_used = 0;
     while (rc == Z_OK) {
         if (z.avail_in == 0 && in_left > 0) {
             z.next_in = (Bytef *)ip;
@@ -161,6 +161,7 @@ static int inflate_payload(aug_rec *rec, const unsigned char *src, uint64_t srcl
                 unsigned char extra;
                 z.next_out = &extra;
                 z.avail_out = 1;
+                extra_used = 1;
                 rc = inflate(&z, Z_NO_FLUSH);
                 if (z.avail_out == 0) rc = Z_DATA_ERROR; /* more output than rawlen */
                 break;
@@ -173,7 +174,9 @@ static int inflate_payload(aug_rec *rec, const unsigned char *src, uint64_t srcl
         rc = inflate(&z, Z_NO_FLUSH);
         if (rc == Z_BUF_ERROR && z.avail_in == 0 && in_left == 0) break;
     }
-    uint64_t produced = (uint64_t)(op - rec->data) - z.avail_out;
+    /* the probe byte past rawlen counts only when inflate wrote it */
+    uint64_t produced = extra_used ? rawlen + (1u - z.avail_out)
+                                   : (uint64_t)(op - rec->data) - z.avail_out;
     inflateEnd(&z);
     if (rc != Z_STREAM_END || produced != rawlen)
         return aug_err_set(e, AUG_EZLIB, rec->index, rec->type,
@@ -372,6 +375,11 @@ int aug_read(aug_reader *r, aug_rec *rec, aug_err *e)
             return -1;
         }
         r->done = 1;
+        /* the stream ends with its TAIL: a byte after it (a second stream
+           appended, trailing garbage) is an error */
+        int c = fgetc(r->f);
+        if (c != EOF)
+            return aug_err_set(e, AUG_EDATA, rec->index, "TAIL", "bytes after the TAIL record"), -1;
         return 0;
     }
     return 1;
