@@ -1,0 +1,147 @@
+#!/usr/bin/env python3
+"""Crafts bad streams from valid ones for tests/records_*.test, with every CRC
+and the TAIL count recomputed, so the damage is behind the framing: records
+that disagree, non-finite and absurd values, names with control bytes.
+
+usage: craft.py KIND IN [IN2] > OUT
+  dofm-swap      DOFM with a fixed and a free DOF exchanged (same ndof, nfree)
+  fact-from IN2  IN with its FACT replaced by IN2's (a factor of another K)
+  fvec-nan       the first FVEC's entry 0 = NaN
+  mdlt-nan       the first MDLT's first new node x = NaN
+  mdlt-flags     the first MDLT's flags = 0x40
+  mdlt-invert    the first MDLT's first changed element with two nodes swapped
+  updt-order     the first UPDT with m >= 1 gets H[0] = -1
+  set-names      two nSEt records named "a\\nb\\x1b[31m" (the second a repeat)
+  after-tail     the stream twice, one after the other
+  empty-deflate  + a pROv record with an empty deflated payload
+  unsafe-anc     + ancillary records zQZW (unsafe to copy) and zQZw (safe) after the mesh
+"""
+import math, struct, sys, zlib
+
+sys.path.insert(0, __import__("os").path.dirname(__file__))
+from augstream import records, SIG  # noqa: E402
+
+
+def frame(typ, payload, step=-1, flags=0, raw=None):
+    body = struct.pack("<IiQ", flags, step, len(payload) if raw is None else raw) + payload
+    return struct.pack("<Q", len(body)) + typ.encode() + body + \
+        struct.pack("<I", zlib.crc32(typ.encode() + body) & 0xffffffff)
+
+
+def build(recs):
+    out = [SIG]
+    n = 0
+    for typ, flags, step, payload in recs:
+        if typ == "TAIL":
+            continue
+        out.append(frame(typ, payload, step))
+        n += 1
+    out.append(frame("TAIL", struct.pack("<Q", n)))
+    return b"".join(out)
+
+
+def first(recs, typ):
+    for i, r in enumerate(recs):
+        if r[0] == typ:
+            return i
+    raise SystemExit("no %s record" % typ)
+
+
+def mesh_dims(recs):
+    p = recs[first(recs, "NODE")][3]
+    dim = struct.unpack_from("<i", p, 0)[0]
+    q = recs[first(recs, "ELEM")][3]
+    nv = struct.unpack_from("<i", q, 4)[0]
+    return dim, nv
+
+
+def put(recs, i, payload):
+    t, f, s, _ = recs[i]
+    recs[i] = (t, f, s, bytes(payload))
+
+
+def main():
+    kind, data = sys.argv[1], open(sys.argv[2], "rb").read()
+    recs = records(data)
+    if kind == "dofm-swap":
+        i = first(recs, "DOFM")
+        p = bytearray(recs[i][3])
+        dim, _, ndof, nfree = struct.unpack_from("<iiqq", p, 0)
+        m = list(struct.unpack_from("<%di" % ndof, p, 24))
+        a = m.index(-1)
+        b = max(range(ndof), key=lambda k: m[k])    # the last free DOF
+        # renumber: DOF a free with b's index, b fixed; the map stays a valid numbering
+        m[a], m[b] = -1, -1
+        m[a] = 0
+        k = 0
+        for j in range(ndof):
+            if m[j] != -1 or j == a:
+                m[j] = k
+                k += 1
+        struct.pack_into("<%di" % ndof, p, 24, *m)
+        put(recs, i, p)
+    elif kind == "fact-from":
+        other = records(open(sys.argv[3], "rb").read())
+        recs[first(recs, "FACT")] = other[first(other, "FACT")]
+    elif kind == "fvec-nan":
+        i = first(recs, "FVEC")
+        p = bytearray(recs[i][3])
+        struct.pack_into("<d", p, 16, math.nan)
+        put(recs, i, p)
+    elif kind == "mdlt-nan":
+        i = first(recs, "MDLT")
+        p = bytearray(recs[i][3])
+        nnew = struct.unpack_from("<q", p, 0)[0]
+        struct.pack_into("<d", p, 8 + 4 * nnew, math.nan)
+        put(recs, i, p)
+    elif kind == "mdlt-flags":
+        i = first(recs, "MDLT")
+        p = bytearray(recs[i][3])
+        struct.pack_into("<i", p, len(p) - 8, 0x40)
+        put(recs, i, p)
+    elif kind == "mdlt-invert":
+        dim, nv = mesh_dims(recs)
+        i = first(recs, "MDLT")
+        p = bytearray(recs[i][3])
+        nnew = struct.unpack_from("<q", p, 0)[0]
+        at = 8 + 4 * nnew + 8 * dim * nnew
+        nmod = struct.unpack_from("<q", p, at)[0]
+        assert nmod > 0
+        c = at + 8 + 4 * nmod                       # the first changed element's nodes
+        n0, n1 = struct.unpack_from("<ii", p, c)
+        struct.pack_into("<ii", p, c, n1, n0)
+        put(recs, i, p)
+    elif kind == "updt-order":
+        i = next(k for k, r in enumerate(recs)
+                 if r[0] == "UPDT" and struct.unpack_from("<i", r[3], 0)[0] >= 1)
+        p = bytearray(recs[i][3])
+        struct.pack_into("<i", p, 8, -1)            # H[0] = -1: H not increasing from 0
+        put(recs, i, p)
+    elif kind == "set-names":
+        i = first(recs, "nSEt")
+        p = bytearray(recs[i][3])
+        name = b"a\nb\x1b[31m"
+        p[0:64] = name + b"\0" * (64 - len(name))
+        put(recs, i, p)
+        recs.insert(i + 1, recs[i])
+    elif kind == "after-tail":
+        sys.stdout.buffer.write(data + data)
+        return
+    elif kind == "empty-deflate":
+        body = zlib.compress(b"")
+        out = build(recs)
+        tail = out.rfind(b"TAIL") - 8
+        extra = frame("pROv", body, -1, 1, 0)
+        n = len(recs)  # the records before the new TAIL: those before the old one, plus pROv
+        sys.stdout.buffer.write(out[:tail] + extra + frame("TAIL", struct.pack("<Q", n)))
+        return
+    elif kind == "unsafe-anc":
+        i = first(recs, "oUTs") if any(r[0] == "oUTs" for r in recs) else first(recs, "ELEM")
+        recs.insert(i + 1, ("zQZw", 0, -1, b"safe to copy"))
+        recs.insert(i + 1, ("zQZW", 0, -1, b"unsafe to copy"))
+    else:
+        raise SystemExit(__doc__)
+    sys.stdout.buffer.write(build(recs))
+
+
+main()
