@@ -38,7 +38,7 @@ DEPS = /usr/include/suitesparse/cholmod.h:libsuitesparse-dev \
        /usr/bin/python3:python3 \
        /usr/include/valgrind/valgrind.h:valgrind
 
-.PHONY: all deps check demo bench check-asan fuzz clean scenes
+.PHONY: all deps check demo bench check-asan fuzz clean scenes mutate
 all: $(TOOLS) $(UNIT)
 
 deps:
@@ -117,6 +117,12 @@ demo: deps
 bench: deps
 	@$(MAKE) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
 	@sh bench/run.sh
+
+# Hand-written source mutants against the tests (tests/mutate/mutants.txt);
+# MUTATE_FULL=1 runs every shell test for each.
+mutate: deps
+	@$(MAKE) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
+	@sh tests/mutate/run.sh
 
 FUZZ_TIME ?= 60
 # The fuzz targets link the whole library, built with clang's coverage hooks.
