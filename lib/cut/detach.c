@@ -92,7 +92,7 @@ out:
     return rc;
 }
 
-/* full rank R? */
+/* rank R: the least eigenvalue of G above RANK_TOL times the largest (> 0) */
 static int full_rank(const double *G, int R)
 {
     double lam[6], mx = 0, mn = INFINITY;
@@ -165,6 +165,8 @@ static int single_unsupported(const aug_mesh *m, const aug_adj *adj, const aug_b
     return !full_rank(G, R);
 }
 
+/* the whole mesh as one piece: bad when its constraints (m's and extra's) leave
+   a rigid motion free (the null space of the unsupported K, [Zienkiewicz]) */
 int aug_detach_find_one(const aug_mesh *m, const aug_adj *adj, const aug_bdelta *extra,
                         aug_pieces *out, aug_err *e)
 {
@@ -610,6 +612,7 @@ int aug_detach_pin(const aug_mesh *m, const aug_pieces *p, int32_t id, const aug
     return 0;
 }
 
+/* every component of every node of the piece fixed at 0 (those not yet constrained) */
 int aug_detach_drop(const aug_mesh *m, const aug_pieces *p, int32_t id, const aug_bdelta *extra,
                     aug_bdelta *b, aug_err *e)
 {

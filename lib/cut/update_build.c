@@ -4,6 +4,8 @@
 #include <string.h>
 #include "aug_cut.h"
 
+/* cut-matrix index of (node, c): map0 for original nodes, nfree0 + (node - nn0)
+   dim + c for nodes the cut added (formats/stream.md 7.2) */
 int64_t aug_cut_index(const aug_mesh *m, int64_t nn0, const int32_t *map0, int64_t nfree0,
                       int64_t node, int c)
 {
@@ -369,6 +371,8 @@ int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const in
     return 0;
 }
 
+/* the UPDT of delta d plus boundary changes bc on mesh before
+   (aug_update_build_after on a copy with d applied; paper 001 eq. 3.1) */
 int aug_update_build_bc(const aug_mesh *before, const aug_mdelta *d, const aug_bdelta *bc,
                         int64_t nn0, const int32_t *map0, int64_t nfree0, aug_update *u,
                         aug_err *e)
@@ -400,6 +404,7 @@ nomem:
     return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
 }
 
+/* aug_update_build_bc without boundary changes */
 int aug_update_build(const aug_mesh *before, const aug_mdelta *d, int64_t nn0,
                      const int32_t *map0, int64_t nfree0, aug_update *u, aug_err *e)
 {

@@ -150,6 +150,9 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* median wall time of min(reps, 16) full solves K_b^-1 a_b with the base factor
+   (cholmod_solve2 on Ls when present, else aug_ldl_solve_full): the unit of the
+   "x solve" figures; NAN on failure */
 double aug_solver_full_solve_ms(aug_solver *s, int reps)
 {
     const aug_base *b = s->base;
@@ -224,6 +227,7 @@ static int swap_base(aug_solver *s, aug_base *nb, aug_err *e)
     return rc;
 }
 
+/* ||x - r||_2 / ||r||_2 (||x - r||_2 when r = 0): err_direct against the fresh solve */
 static double reldiff(const double *x, const double *r, int64_t n)
 {
     double d = 0, q = 0;
