@@ -120,6 +120,7 @@ typedef struct aug_mat_spec {  /* --material GROUP:E=..,nu=..,rho=..,t=.. */
 } aug_mat_spec;
 typedef struct aug_scene_spec {
     int nfix, nload, nmat;     /* the accepted values, in the order given */
+    int cap;                   /* room in each array */
     aug_fix_spec *fix;
     aug_load_spec *load;
     aug_mat_spec *mat;

@@ -110,6 +110,7 @@ static int output(const aug_scene_spec *s, aug_mesh *m, aug_sink *k, unsigned ch
     return rc;
 }
 
+/* materials, FIXD, LOAD, oUTs of m from s, each problem to k */
 int aug_scene_spec_apply(const aug_scene_spec *s, aug_mesh *m, aug_sink *k, aug_err *e)
 {
     aug_err_clear(e);

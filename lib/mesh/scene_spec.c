@@ -26,11 +26,13 @@ void aug_sink_report(aug_sink *k, const char *fmt, ...)
     if (msg != small) free(msg);
 }
 
+/* s = no option given */
 void aug_scene_spec_init(aug_scene_spec *s)
 {
     memset(s, 0, sizeof *s);
 }
 
+/* the arrays of s freed; s as after init */
 void aug_scene_spec_free(aug_scene_spec *s)
 {
     free(s->fix);
@@ -98,6 +100,7 @@ static int vec3(const char *s, double *v)
 /* GROUP | box:x0,y0,z0,x1,y1,z1 (lo <= hi) | plane:nx,ny,nz,d[,tol] (n != 0, tol >= 0) */
 static void parse_fix(aug_sink *k, const char *s, aug_fix_spec *f)
 {
+    memset(f, 0, sizeof *f);
     f->arg = s;
     if (strncmp(s, "box:", 4) == 0) {
         f->kind = AUG_FIX_BOX;
@@ -121,16 +124,22 @@ static void parse_fix(aug_sink *k, const char *s, aug_fix_spec *f)
     }
 }
 
+/* the last ':' of s, or NULL with the problem "OPT S: want WANT" */
+static const char *last_colon(aug_sink *k, const char *opt, const char *s, const char *want)
+{
+    const char *c = strrchr(s, ':');
+    if (!c) aug_sink_report(k, "%s %s: want %s", opt, s, want);
+    return c;
+}
+
 /* GROUP:fx,fy[,fz] | point:x,y[,z]:fx,fy[,fz] (the group or point is what
    precedes the last ':') */
 static void parse_load(aug_sink *k, const char *s, aug_load_spec *l)
 {
+    memset(l, 0, sizeof *l);
     l->arg = s;
-    const char *c = strrchr(s, ':');
-    if (!c) {
-        aug_sink_report(k, "--load %s: want GROUP:fx,fy,fz or point:x,y,z:fx,fy,fz", s);
-        return;
-    }
+    const char *c = last_colon(k, "--load", s, "GROUP:fx,fy,fz or point:x,y,z:fx,fy,fz");
+    if (!c) return;
     if (vec3(c + 1, l->F)) aug_sink_report(k, "--load %s: the force '%s' is not fx,fy,fz", s, c + 1);
     if (strncmp(s, "point:", 6) == 0 && c > s + 5) {
         char buf[256];
@@ -146,25 +155,30 @@ static void parse_load(aug_sink *k, const char *s, aug_load_spec *l)
 /* GROUP:E=..,nu=..,rho=..,t=.. */
 static void parse_material(aug_sink *k, const char *s, aug_mat_spec *m)
 {
+    memset(m, 0, sizeof *m);
     m->arg = s;
-    const char *c = strrchr(s, ':');
-    if (!c) {
-        aug_sink_report(k, "--material %s: want GROUP:E=..,nu=..,rho=..,t=..", s);
-        return;
-    }
+    const char *c = last_colon(k, "--material", s, "GROUP:E=..,nu=..,rho=..,t=..");
+    if (!c) return;
     group_name(k, "--material", s, (size_t)(c - s), m->group);
     parse_props(k, "--material", s, c + 1, &m->p);
 }
 
-/* v resized to n + 1 items of size bytes, the last zeroed; NULL (v kept) when
-   memory runs out */
-static void *grow(void *v, int n, size_t size)
+/* room for one more item of each kind: 0, or -1 (memory; s keeps what it had) */
+static int reserve(aug_scene_spec *s)
 {
-    char *p = aug_realloc(v, ((size_t)n + 1) * size);
-    if (p) memset(p + (size_t)n * size, 0, size);
-    return p;
+    if (s->nfix < s->cap && s->nload < s->cap && s->nmat < s->cap) return 0;
+    int cap = 2 * s->cap + 4;
+    aug_fix_spec *f = aug_realloc(s->fix, (size_t)cap * sizeof *f);
+    if (f) s->fix = f;
+    aug_load_spec *l = f ? aug_realloc(s->load, (size_t)cap * sizeof *l) : NULL;
+    if (l) s->load = l;
+    aug_mat_spec *m = l ? aug_realloc(s->mat, (size_t)cap * sizeof *m) : NULL;
+    if (m) s->mat = m, s->cap = cap;
+    return m ? 0 : -1;
 }
 
+/* s += text of opt, kept only when it met no problem (--default-material:
+   its well-formed keys) */
 int aug_scene_spec_add(aug_scene_spec *s, const char *opt, const char *text, aug_sink *k,
                        aug_err *e)
 {
@@ -173,26 +187,20 @@ int aug_scene_spec_add(aug_scene_spec *s, const char *opt, const char *text, aug
     if (!strcmp(opt, "--default-material")) {
         s->defarg = text;
         parse_props(k, opt, text, text, &s->def);
-    } else if (!strcmp(opt, "--fix")) {
-        aug_fix_spec *f = grow(s->fix, s->nfix, sizeof *f);
-        if (!f) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
-        s->fix = f;
-        parse_fix(k, text, &f[s->nfix]);
+        return 0;
+    }
+    if (strcmp(opt, "--fix") && strcmp(opt, "--load") && strcmp(opt, "--material"))
+        return aug_err_set(e, AUG_EUSAGE, -1, "", "%s is not a scene option", opt);
+    if (reserve(s)) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    if (!strcmp(opt, "--fix")) {
+        parse_fix(k, text, &s->fix[s->nfix]);
         s->nfix += k->n == n0;
     } else if (!strcmp(opt, "--load")) {
-        aug_load_spec *l = grow(s->load, s->nload, sizeof *l);
-        if (!l) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
-        s->load = l;
-        parse_load(k, text, &l[s->nload]);
+        parse_load(k, text, &s->load[s->nload]);
         s->nload += k->n == n0;
-    } else if (!strcmp(opt, "--material")) {
-        aug_mat_spec *m = grow(s->mat, s->nmat, sizeof *m);
-        if (!m) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
-        s->mat = m;
-        parse_material(k, text, &m[s->nmat]);
-        s->nmat += k->n == n0;
     } else {
-        return aug_err_set(e, AUG_EUSAGE, -1, "", "%s is not a scene option", opt);
+        parse_material(k, text, &s->mat[s->nmat]);
+        s->nmat += k->n == n0;
     }
     return 0;
 }

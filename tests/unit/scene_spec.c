@@ -39,15 +39,16 @@ static void expect(const msgs *q, const aug_sink *k, const char *const *want, in
                 want[i]);
 }
 
-static void add_set(aug_mesh *m, const char *name, const int32_t *nodes, int64_t n)
+/* set name := the nodes with x[axis] == value (none when axis < 0) */
+static void add_set(aug_mesh *m, const char *name, int axis, double value)
 {
     m->sets = realloc(m->sets, (size_t)(m->nset + 1) * sizeof *m->sets);
     aug_set *s = &m->sets[m->nset++];
-    memset(s, 0, sizeof *s);
     snprintf(s->name, sizeof s->name, "%s", name);
-    s->n = n;
-    s->nodes = malloc((size_t)(n ? n : 1) * sizeof *s->nodes);
-    if (n) memcpy(s->nodes, nodes, (size_t)n * sizeof *nodes);
+    s->nodes = malloc((size_t)m->nn * sizeof *s->nodes);
+    s->n = 0;
+    for (int64_t i = 0; i < m->nn; i++)
+        if (axis >= 0 && m->x[i * m->dim + axis] == value) s->nodes[s->n++] = (int32_t)i;
 }
 
 /* the box 2 x 1 x 1 of 2 x 1 x 1 cubes (12 nodes, node (i,j,k) = i + 3 (j + 2 k)),
@@ -62,10 +63,9 @@ static void scene_box(aug_mesh *m)
     m->mats[1].id = 0;
     strcpy(m->mats[1].name, "default");
     m->mat[0] = 1;
-    int32_t left[4] = {0, 3, 6, 9}, tip[4] = {2, 5, 8, 11};
-    add_set(m, "left", left, 4);
-    add_set(m, "tip", tip, 4);
-    add_set(m, "empty", NULL, 0);
+    add_set(m, "left", 0, 0);
+    add_set(m, "tip", 0, 2);
+    add_set(m, "empty", -1, 0);
 }
 
 /* s += each (opt, text) pair; no problem, no error */
@@ -74,6 +74,31 @@ static void add_all(aug_scene_spec *s, const char *const *kv, int n, aug_sink *k
     aug_err e;
     for (int i = 0; i < 2 * n; i += 2)
         T_CHECK(aug_scene_spec_add(s, kv[i], kv[i + 1], k, &e) == 0, "%s %s: %s", kv[i], kv[i + 1], e.msg);
+}
+
+/* one application: a mesh, the spec given to it, the problems met */
+typedef struct scene_case {
+    aug_mesh m;
+    aug_scene_spec s;
+    msgs q;
+    aug_sink k;
+    aug_err e;
+} scene_case;
+
+/* c->m += the spec of the n (opt, text) pairs kv and output out: 0 or the code */
+static int run(scene_case *c, const char *const *kv, int n, const char *out)
+{
+    c->k = sink_of(&c->q);
+    aug_scene_spec_init(&c->s);
+    add_all(&c->s, kv, n, &c->k);
+    c->s.output = out;
+    return aug_scene_spec_apply(&c->s, &c->m, &c->k, &c->e);
+}
+
+static void finish(scene_case *c)
+{
+    aug_scene_spec_free(&c->s);
+    aug_mesh_free(&c->m);
 }
 
 static void t_parse_reals(void)
@@ -203,76 +228,60 @@ static void t_parse_bad(void)
    box) or x = 1 (plane); loads on the set and the nearest node; the output set */
 static void t_apply(void)
 {
-    aug_mesh m;
-    scene_box(&m);
-    msgs q;
-    aug_sink k = sink_of(&q);
-    aug_scene_spec s;
-    aug_scene_spec_init(&s);
+    scene_case c;
+    scene_box(&c.m);
     static const char *const kv[] = {
         "--default-material", "E=5,rho=2", "--material", "soft:E=10,nu=0.25", "--fix", "left",
         "--fix", "plane:1,0,0,1", "--fix", "box:-1,-1,-1,0.5,2,2", "--load", "tip:0,0,-4",
         "--load", "point:2.1,0.9,1.2:1,0,0"};
-    add_all(&s, kv, 7, &k);
-    s.output = "tip";
-    aug_err e;
-    T_CHECK(aug_scene_spec_apply(&s, &m, &k, &e) == 0, "apply: %s", e.msg);
-    expect(&q, &k, NULL, 0, "apply");
-    const aug_material *a = &m.mats[0], *d = &m.mats[1];
+    T_CHECK(run(&c, kv, 7, "tip") == 0, "apply: %s", c.e.msg);
+    expect(&c.q, &c.k, NULL, 0, "apply");
+    const aug_mesh *m = &c.m;
+    const aug_material *a = &m->mats[0], *d = &m->mats[1];
     T_CHECK(a->E == 10 && a->nu == 0.25 && a->rho == 2 && a->t == AUG_DEFAULT_T, "soft: %g %g %g %g", a->E,
             a->nu, a->rho, a->t);
     T_CHECK(d->E == 5 && d->nu == AUG_DEFAULT_NU && d->rho == 2, "default: %g %g %g", d->E, d->nu, d->rho);
-    T_CHECK(m.nfix == 24 && (m.have & AUG_HAVE_FIXD), "%lld constraints", (long long)m.nfix);
-    for (int64_t j = 0; j < m.nfix && m.nfix == 24; j++) {
-        int32_t node = m.fix_dof[j] / 3;
-        T_CHECK(node % 3 != 2 && m.fix_val[j] == 0, "constraint %lld on node %d", (long long)j, node);
-        if (j) T_CHECK(m.fix_dof[j] > m.fix_dof[j - 1], "FIXD not increasing");
+    T_CHECK(m->nfix == 24 && (m->have & AUG_HAVE_FIXD), "%lld constraints", (long long)m->nfix);
+    for (int64_t j = 0; j < m->nfix && m->nfix == 24; j++) {
+        int32_t node = m->fix_dof[j] / 3;
+        T_CHECK(node % 3 != 2 && m->fix_val[j] == 0, "constraint %lld on node %d", (long long)j, node);
+        if (j) T_CHECK(m->fix_dof[j] > m->fix_dof[j - 1], "FIXD not increasing");
     }
     /* tip: -1 on each of its 4 nodes in z; node 11 = (2,1,1), the nearest, +1 in x */
-    T_CHECK(m.nload == 5, "%lld loads", (long long)m.nload);
-    for (int64_t j = 0; j < m.nload; j++) {
-        int32_t dof = m.load_dof[j];
+    T_CHECK(m->nload == 5, "%lld loads", (long long)m->nload);
+    for (int64_t j = 0; j < m->nload; j++) {
+        int32_t dof = m->load_dof[j];
         double want = dof == 3 * 11 ? 1.0 : -1.0;
-        T_CHECK((dof % 3 == 2 || dof == 33) && (dof / 3) % 3 == 2 && m.load_val[j] == want,
-                "load %g on dof %d", m.load_val[j], dof);
+        T_CHECK((dof % 3 == 2 || dof == 33) && (dof / 3) % 3 == 2 && m->load_val[j] == want,
+                "load %g on dof %d", m->load_val[j], dof);
     }
-    T_CHECK(m.out_kind == AUG_OUT_SET && !strcmp(m.out_name, "tip") && m.nout == 4 && m.out_nodes[3] == 11,
+    T_CHECK(m->out_kind == AUG_OUT_SET && !strcmp(m->out_name, "tip") && m->nout == 4 &&
+                m->out_nodes[3] == 11,
             "output set");
-    aug_scene_spec_free(&s);
-    aug_mesh_free(&m);
+    finish(&c);
 
     /* output: all (by default) and surface */
     const char *out[2] = {NULL, "surface"};
     for (int i = 0; i < 2; i++) {
-        scene_box(&m);
-        aug_scene_spec_init(&s);
-        s.output = out[i];
-        T_CHECK(aug_scene_spec_apply(&s, &m, &k, &e) == 0, "apply: %s", e.msg);
-        T_CHECK(m.out_kind == (i ? AUG_OUT_SURFACE : AUG_OUT_ALL) && m.nout == (i ? 12 : 0) &&
-                    !strcmp(m.out_name, i ? "surface" : "all") && m.nfix == 0 && m.nload == 0,
+        scene_box(&c.m);
+        T_CHECK(run(&c, NULL, 0, out[i]) == 0, "apply: %s", c.e.msg);
+        T_CHECK(m->out_kind == (i ? AUG_OUT_SURFACE : AUG_OUT_ALL) && m->nout == (i ? 12 : 0) &&
+                    !strcmp(m->out_name, i ? "surface" : "all") && m->nfix == 0 && m->nload == 0,
                 "output %s", out[i] ? out[i] : "NULL");
-        aug_scene_spec_free(&s);
-        aug_mesh_free(&m);
+        finish(&c);
     }
 }
 
 /* options that disagree with the mesh: every problem, in order */
 static void t_apply_problems(void)
 {
-    aug_mesh m;
-    scene_box(&m);
-    msgs q;
-    aug_sink k = sink_of(&q);
-    aug_scene_spec s;
-    aug_scene_spec_init(&s);
+    scene_case c;
+    scene_box(&c.m);
     static const char *const kv[] = {
         "--default-material", "t=3", "--material", "nope:E=3", "--material", "left:E=2",
         "--material", "soft:t=2", "--fix", "nosuch", "--fix", "box:50,50,50,60,60,60", "--fix", "tip",
         "--load", "nada:1,1,1", "--load", "empty:1,0,0"};
-    add_all(&s, kv, 9, &k);
-    s.output = "zip";
-    aug_err e;
-    T_CHECK(aug_scene_spec_apply(&s, &m, &k, &e) == 0, "apply: %s", e.msg);
+    T_CHECK(run(&c, kv, 9, "zip") == 0, "apply: %s", c.e.msg);
     static const char *const want[] = {
         "--default-material t=3: t= (thickness) applies to 2-D meshes only",
         "--material nope:E=3: 'nope' is no material of the mesh",
@@ -283,27 +292,21 @@ static void t_apply_problems(void)
         "--load nada:1,1,1: no physical group or set named 'nada' (there are: left, tip, empty)",
         "--load empty:1,0,0: set 'empty' has no node of the mesh",
         "--output zip: no physical group or set named 'zip' (there are: left, tip, empty)"};
-    expect(&q, &k, want, 9, "problems");
-    T_CHECK(m.nfix == 12 && m.nload == 0 && !(m.have & AUG_HAVE_OUTS), "the rest applied: %lld %lld",
-            (long long)m.nfix, (long long)m.nload);
-    aug_scene_spec_free(&s);
-    aug_mesh_free(&m);
+    expect(&c.q, &c.k, want, 9, "problems");
+    T_CHECK(c.m.nfix == 12 && c.m.nload == 0 && !(c.m.have & AUG_HAVE_OUTS), "the rest applied: %lld %lld",
+            (long long)c.m.nfix, (long long)c.m.nload);
+    finish(&c);
 
     /* 2-D: a z force is a problem (and ignored), a volume is a surface */
-    tm_rect(&m, 2, 2, 2, 2, 1, 0.3, 1);
-    int32_t left[3] = {0, 3, 6};
-    add_set(&m, "left", left, 3);
-    k = sink_of(&q);
-    aug_scene_spec_init(&s);
+    tm_rect(&c.m, 2, 2, 2, 2, 1, 0.3, 1);
+    add_set(&c.m, "left", 0, 0);
     static const char *const kv2[] = {"--load", "left:0,3,1", "--material", "left:t=2"};
-    add_all(&s, kv2, 2, &k);
-    T_CHECK(aug_scene_spec_apply(&s, &m, &k, &e) == 0, "apply: %s", e.msg);
+    T_CHECK(run(&c, kv2, 2, NULL) == 0, "apply: %s", c.e.msg);
     static const char *const want2[] = {"--material left:t=2: 'left' is not a physical surface",
                                         "--load left:0,3,1: a 2-D mesh takes no z force"};
-    expect(&q, &k, want2, 2, "2-D problems");
-    T_CHECK(m.nload == 3 && m.load_dof[0] == 1 && m.load_val[0] == 1, "2-D loads");
-    aug_scene_spec_free(&s);
-    aug_mesh_free(&m);
+    expect(&c.q, &c.k, want2, 2, "2-D problems");
+    T_CHECK(c.m.nload == 3 && c.m.load_dof[0] == 1 && c.m.load_val[0] == 1, "2-D loads");
+    finish(&c);
 }
 
 /* every allocation failure is AUG_ENOMEM, nothing leaks (the ASan build) */
