@@ -37,15 +37,6 @@ static const char *help =
     "  --deflate            zlib-deflate payloads of 64 KiB and more\n"
     "  -h                   this help; see cut(1)\n";
 
-typedef struct constraint {
-    const char *set;     /* set name, or NULL for a box */
-    double lo[3], hi[3];
-    int nbox;            /* numbers given for the box */
-    double v[3];
-    int nv;              /* values given (0: all zero) */
-    long step;
-} constraint;
-
 typedef struct options {
     const char *file, *pathfile;
     int plane, random_plane, have_adv, mode, policy, stats, deflate;
@@ -54,49 +45,9 @@ typedef struct options {
     double n[4], adv[3], pull, snap_tol;
     long steps, per_step, seed;
     aug_path path;
-    constraint *con;
+    aug_constraint *con;
     int ncon;
 } options;
-
-static int parse_constraint(const char *s, constraint *c)
-{
-    char buf[512];
-    memset(c, 0, sizeof *c);
-    c->step = 1;
-    if (strlen(s) >= sizeof buf) return -1;
-    strcpy(buf, s);
-    char *at = strrchr(buf, '@');
-    if (at) {
-        *at = 0;
-        if (aug_parse_long(at + 1, &c->step) || c->step < 1) return -1;
-    }
-    char *eq = strchr(buf, '=');
-    if (eq) {
-        *eq = 0;
-        for (c->nv = 3; c->nv >= 2; c->nv--)
-            if (!aug_parse_doubles(eq + 1, c->v, c->nv)) break;
-        if (c->nv < 2) return -1;
-    }
-    if (!strncmp(buf, "box:", 4)) {
-        double b[6];
-        if (!aug_parse_doubles(buf + 4, b, 6)) {
-            c->nbox = 6;
-            memcpy(c->lo, b, 3 * sizeof *b);
-            memcpy(c->hi, b + 3, 3 * sizeof *b);
-        } else if (!aug_parse_doubles(buf + 4, b, 4)) {
-            c->nbox = 4;
-            memcpy(c->lo, b, 2 * sizeof *b);
-            memcpy(c->hi, b + 2, 2 * sizeof *b);
-        } else
-            return -1;
-        return 0;
-    }
-    if (!buf[0] || strlen(buf) >= AUG_NAME) return -1;
-    c->set = strdup(s);
-    if (!c->set) return -1;
-    ((char *)c->set)[strlen(buf)] = 0;
-    return 0;
-}
 
 /* --plane nx,ny,nz,d | random */
 static int plane(aug_tool *t, const char *opt, const char *val, void *dst)
@@ -116,12 +67,10 @@ static int plane(aug_tool *t, const char *opt, const char *val, void *dst)
 static int polygon(aug_tool *t, const char *opt, const char *val, void *dst)
 {
     options *o = dst;
-    int nc = 0;
+    int n = aug_parse_reals(val, o->poly, 3 * 64);
     (void)t, (void)opt;
-    for (const char *c = val; *c; c++) nc += *c == ',';
-    if ((nc + 1) % 3 != 0 || (nc + 1) / 3 < 3 || (nc + 1) / 3 > 64 || aug_parse_doubles(val, o->poly, nc + 1))
-        return -1;
-    o->npoly = (nc + 1) / 3;
+    if (n < 9 || n % 3) return -1;
+    o->npoly = n / 3;
     return 0;
 }
 
@@ -129,13 +78,12 @@ static int polygon(aug_tool *t, const char *opt, const char *val, void *dst)
 static int constrain(aug_tool *t, const char *opt, const char *val, void *dst)
 {
     options *o = dst;
-    constraint c;
+    aug_constraint *q = realloc(o->con, (size_t)(o->ncon + 1) * sizeof *q);
     (void)opt;
-    if (parse_constraint(val, &c)) return -1;
-    constraint *q = realloc(o->con, (size_t)(o->ncon + 1) * sizeof *q);
     if (!q) aug_tool_die(t, "out of memory");
     o->con = q;
-    o->con[o->ncon++] = c;
+    if (aug_constraint_parse(val, &q[o->ncon])) return -1;
+    o->ncon++;
     return 0;
 }
 
@@ -183,25 +131,6 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         }
     }
     aug_tool_usage_done(t, synopsis);
-}
-
-/* --constrain of step k: a set or a box, to 0 or to given values */
-static void constrain_step(aug_tool *t, const options *o, aug_mesh *m, long k, aug_bdelta *bc)
-{
-    aug_err e;
-    for (int i = 0; i < o->ncon; i++) {
-        const constraint *q = &o->con[i];
-        if (q->step != k) continue;
-        if (q->nv && q->nv != m->dim)
-            aug_tool_die(t, "--constrain: %d values for a %d-D mesh", q->nv, m->dim);
-        if (q->set) {
-            aug_tool_check(t, aug_cut_constrain_set(m, q->set, q->nv ? q->v : NULL, bc, &e), &e);
-            continue;
-        }
-        if (q->nbox != 2 * m->dim)
-            aug_tool_die(t, "--constrain: a box of %d numbers for a %d-D mesh", q->nbox, m->dim);
-        aug_tool_check(t, aug_cut_constrain_box(m, q->lo, q->hi, q->nv ? q->v : NULL, bc, &e), &e);
-    }
 }
 
 int main(int argc, char **argv)
@@ -267,7 +196,9 @@ int main(int argc, char **argv)
         }
         nseg += st.nseg;
         aug_tool_check(&t, aug_cutter_apply(&c, &st, &e), &e);
-        constrain_step(&t, &o, m, k, &st.bc);
+        int rc = aug_constrain_step(o.con, o.ncon, m, k, &st.bc, &e);
+        if (rc == AUG_EUSAGE) aug_tool_die(&t, "%s", e.msg); /* the option does not fit the mesh */
+        aug_tool_check(&t, rc, &e);
         aug_tool_check(&t, aug_cutter_update(&c, &st, &e), &e);
         double ms = 1e3 * (aug_now() - t0);
         int64_t n = aug_cut_order(m, rp.nn0, rp.nfree0);
@@ -280,7 +211,6 @@ int main(int argc, char **argv)
     aug_path_cut_free(&pp);
     aug_cutter_free(&c);
     aug_path_free(&o.path);
-    for (int i = 0; i < o.ncon; i++) free((char *)o.con[i].set);
     free(o.con);
     aug_rec_free(&rec);
     aug_replay_free(&rp);

@@ -309,6 +309,26 @@ int aug_cut_constrain_set(const aug_mesh *m, const char *set, const double *v, a
                           aug_err *e);
 int aug_cut_constrain_box(const aug_mesh *m, const double *lo, const double *hi,
                           const double *v, aug_bdelta *b, aug_err *e);
+/* cut's --constrain SET|box:LO,HI[=u,v[,w]][@S] (lib/cut/constrain_spec.c):
+   u = v (0 when no values are given) on the nodes of a set or of the box
+   lo <= x <= hi (LO, HI: 2 numbers each in 2-D, 3 in 3-D) at the run's cut
+   step S (default 1). */
+typedef struct aug_constraint {
+    char set[AUG_NAME];          /* the set, "" for a box */
+    double lo[3], hi[3];
+    int nbox;                    /* numbers the box was given: 4 or 6 */
+    double v[3];
+    int nv;                      /* values given: 0 (all zero), 2 or 3 */
+    long step;                   /* >= 1 */
+} aug_constraint;
+/* c = the spec s: 0, or -1 when s is not one (c is then undefined). */
+int aug_constraint_parse(const char *s, aug_constraint *c);
+/* b += the constraints c[i] of step k (c[i].step == k) on m, in order
+   (aug_cut_constrain_set, _box). AUG_EUSAGE when one does not fit m's
+   dimension (its values or its box), e.msg "--constrain: ..." naming both;
+   otherwise their errors. */
+int aug_constrain_step(const aug_constraint *c, int n, const aug_mesh *m, long k,
+                       aug_bdelta *b, aug_err *e);
 /* Pull forces (AMPS sec. 4.3.2): every copy made by d (a new node at its parent's
    place) gets F along the direction from its parent's element star to its own
    (dir non-NULL: along +-dir, the sign of that direction), the parent the

@@ -1,6 +1,6 @@
 /* augcut scene layer: a mesh as a mesh file tags it (gmsh node and element
    tags, physical groups) turned into struct aug_mesh, and the scene options
-   (fixed nodes, loads, output set) that meshload adds to it. */
+   (materials, fixed nodes, loads, output set) that meshload adds to it. */
 #ifndef AUG_SCENE_H
 #define AUG_SCENE_H
 
@@ -78,5 +78,82 @@ int aug_mesh_set_load(aug_mesh *m, const double *f, aug_err *e);
 /* oUTs := kind (AUG_OUT_*), name, nodes (copied; none for AUG_OUT_ALL). */
 int aug_mesh_set_output(aug_mesh *m, int kind, const char *name, const int32_t *nodes,
                         int64_t n, aug_err *e);
+
+/* ---- Scene options (lib/mesh/scene_spec.c, scene_apply.c) ----
+   The values of meshload's --fix, --material, --default-material, --load and
+   --output, parsed, then applied to an imported mesh. Each problem found is
+   one message to a sink, in the order found, and the search goes on, so that
+   a caller can report them all (GMT's rule); the library never prints. */
+typedef struct aug_sink {
+    void (*report)(void *ctx, const char *msg); /* NULL: problems only counted */
+    void *ctx;
+    int n;                     /* problems reported */
+} aug_sink;
+/* One problem: n += 1 and the formatted message to report. */
+void aug_sink_report(aug_sink *k, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Material properties as given: v[i] when has[i]. */
+enum { AUG_PROP_E, AUG_PROP_NU, AUG_PROP_RHO, AUG_PROP_T, AUG_NPROP };
+typedef struct aug_props {
+    int has[AUG_NPROP];
+    double v[AUG_NPROP];
+} aug_props;
+
+enum { AUG_FIX_GROUP, AUG_FIX_BOX, AUG_FIX_PLANE };
+typedef struct aug_fix_spec {  /* --fix GROUP | box:x0,y0,z0,x1,y1,z1 | plane:nx,ny,nz,d[,tol] */
+    int kind;                  /* AUG_FIX_* */
+    const char *arg;           /* the option's value (messages) */
+    char group[AUG_NAME];
+    double v[6];               /* box: lo[3], hi[3]; plane: n[3], d, tol */
+    int ntol;                  /* plane: 1 when tol was given */
+} aug_fix_spec;
+typedef struct aug_load_spec { /* --load GROUP:fx,fy,fz | point:x,y,z:fx,fy,fz */
+    int point;                 /* 1: on the node nearest p; 0: on the set group */
+    const char *arg;
+    char group[AUG_NAME];
+    double p[3], F[3];         /* fz = 0 when given two numbers */
+} aug_load_spec;
+typedef struct aug_mat_spec {  /* --material GROUP:E=..,nu=..,rho=..,t=.. */
+    const char *arg;
+    char group[AUG_NAME];
+    aug_props p;
+} aug_mat_spec;
+typedef struct aug_scene_spec {
+    int nfix, nload, nmat;     /* the accepted values, in the order given */
+    int cap;                   /* room in each array */
+    aug_fix_spec *fix;
+    aug_load_spec *load;
+    aug_mat_spec *mat;
+    aug_props def;             /* --default-material */
+    const char *defarg;
+    const char *output;        /* all (also NULL), surface or a set name */
+} aug_scene_spec;
+/* The texts given to a spec are the caller's (argv's): kept, not copied. */
+void aug_scene_spec_init(aug_scene_spec *s);
+void aug_scene_spec_free(aug_scene_spec *s);
+/* s += the value text of option opt: "--fix", "--material",
+   "--default-material" or "--load". A value refused for its own text (bad
+   syntax, a number out of range, E > 0, -1 < nu < 0.5, rho >= 0, t > 0, a key
+   given twice) is left out, each of its problems reported to k as "OPT TEXT:
+   what" (--default-material keeps its well-formed keys). Returns 0, also for
+   a refused value; AUG_ENOMEM; AUG_EUSAGE for another opt. */
+int aug_scene_spec_add(aug_scene_spec *s, const char *opt, const char *text, aug_sink *k,
+                       aug_err *e);
+/* m += the options of s, in this order (the problems, reported to k, in it too):
+   materials: each property p of material a := --material a's p, else
+   --default-material's p, else a's own (the defaults above); a --material not
+   naming a material of m and t= on a 3-D mesh are problems.
+   FIXD := u = 0 at every node of the --fix sets, boxes and planes (tol
+   defaults to 1e-6 aug_mesh_extent); an unknown or empty set and a box or
+   plane selecting no node are problems.
+   LOAD := the sum of the --load forces: a set's total F split equally among
+   its nodes (aug_load_spread), a point's F on the node nearest it; an
+   unknown or empty set is a problem, and so is fz != 0 on a 2-D mesh (which
+   ignores fz).
+   oUTs := output: all; surface (aug_mesh_boundary_nodes); or a set (unknown
+   or empty: a problem, and oUTs left out).
+   A problem stops nothing: an unknown set selects no node, t= is unused in
+   3-D. Returns 0 (problems or not), or AUG_ENOMEM. */
+int aug_scene_spec_apply(const aug_scene_spec *s, aug_mesh *m, aug_sink *k, aug_err *e);
 
 #endif

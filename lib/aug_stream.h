@@ -236,6 +236,10 @@ int aug_read_kv(const aug_rec *rec, aug_kv *kv, aug_err *e);
 /* Monotonic wall clock in seconds (lib/stream/clock.c). */
 double aug_now(void);
 
+/* The n finite numbers of "x1,...,xn" into v[0..n), 1 <= n <= max: n, else -1
+   (lib/stream/parse_reals.c; the specs of the scene and cut options). */
+int aug_parse_reals(const char *s, double *v, int max);
+
 /* Failure injection for tests: the n-th allocation through aug_malloc fails
    (n < 0: never). */
 void aug_fail_after(long n);
