@@ -47,8 +47,6 @@ void aug_err_clear(aug_err *e);
 int aug_err_set(aug_err *e, int code, long record, const char *type, const char *fmt, ...)
     __attribute__((format(printf, 5, 6)));
 
-/* Monotonic wall clock in seconds (clock.c). */
-double aug_now(void);
 
 /* Record flags (u32 in every record body). */
 #define AUG_FLAG_DEFLATE 1u   /* payload is zlib-deflated */

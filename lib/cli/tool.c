@@ -134,20 +134,7 @@ void aug_tool_close(aug_tool *t)
 
 int aug_parse_doubles(const char *s, double *v, int n)
 {
-    const char *p = s;
-    for (int i = 0; i < n; i++) {
-        char *end;
-        errno = 0;
-        v[i] = strtod(p, &end);
-        if (end == p || errno || !isfinite(v[i])) return -1;
-        if (i < n - 1) {
-            if (*end != ',') return -1;
-            p = end + 1;
-        } else if (*end) {
-            return -1;
-        }
-    }
-    return 0;
+    return aug_parse_reals(s, v, n) == n ? 0 : -1;
 }
 
 int aug_parse_long(const char *s, long *v)
