@@ -258,12 +258,31 @@ static void test_non_finite_refused(void)
     }
 }
 
+/* no tool writes a non-finite number into a field: the fELD writer refuses it */
+static void test_field_writer_refuses_nan(void)
+{
+    aug_err e;
+    FILE *f = tmpfile();
+    aug_writer *w = aug_writer_open(f, "test", &e);
+    double u[6] = {0, 1, 2, 3, NAN, 5};
+    int32_t nodes[2] = {3, 7};
+    T_CHECK(aug_write_field(w, 1, 0, 3, 2, nodes, u, &e) == AUG_EDATA, "a NaN field was written");
+    T_CHECK(strstr(e.msg, "node 7") != NULL, "message does not name node 7: %s", e.msg);
+    u[4] = INFINITY;
+    T_CHECK(aug_write_field(w, 1, 0, 3, 2, NULL, u, &e) == AUG_EDATA, "an infinite field was written");
+    u[4] = 4;
+    T_CHECK(aug_write_field(w, 1, 0, 3, 2, nodes, u, &e) == 0, "a finite field refused: %s", e.msg);
+    aug_writer_free(w);
+    fclose(f);
+}
+
 int main(void)
 {
     aug_cholmod_start(&cm);
     T_RUN(test_every_row_has_a_codec);
     T_RUN(test_every_type_round_trips);
     T_RUN(test_non_finite_refused);
+    T_RUN(test_field_writer_refuses_nan);
     cholmod_finish(&cm);
     return t_failed_cases != 0;
 }
