@@ -4,6 +4,7 @@
 # rebuilt), run against every unit test and the shell tests it names (all shell
 # tests when it names none, or with MUTATE_FULL=1), then reverted. Prints one
 # line per mutant, KILLED or SURVIVED (equivalent ones say so), and the score.
+# MUTATE_ONLY=name,name runs just those.
 cd "$(dirname "$0")/../.." || exit 2
 root=$PWD; scratch=${MUTATE_DIR:-/tmp/augcut-mutate.$$}
 rm -rf "$scratch"; mkdir -p "$scratch"
@@ -44,6 +45,9 @@ def tests_fail(b):
         if p.returncode != 0:
             return "shell " + t
     return None
+only = [x for x in os.environ.get("MUTATE_ONLY", "").split(",") if x]
+if only:
+    blocks = [b for b in blocks if b["name"] in only]
 killed = survived = equiv = 0
 for b in blocks:
     path = os.path.join(scratch, b["file"])
