@@ -200,6 +200,54 @@ static void test_patch_tri3(void)
     aug_mesh_free(&m);
 }
 
+/* uniform tension sigma along x of a plate (plane stress, thickness t): a
+   state linear elements represent exactly, so u_x(L) = sigma L / E and
+   u_y(H) = -nu sigma H / E at every node (plane strain would give
+   -nu (1 + nu) sigma H / E); u_x = 0 on x = 0, u_y = 0 at the origin; the end
+   traction as consistent nodal forces sigma t H / ny (half at the corners) */
+static void test_plane_stress_tension(void)
+{
+    int nx = 4, ny = 3;
+    double L = 2.0, H = 0.9, E = 7.0, nu = 0.3, t = 0.25, sigma = 0.5;
+    aug_mesh m;
+    tm_rect(&m, nx, ny, L, H, E, nu, t);
+    m.fix_dof = malloc((size_t)(ny + 2) * sizeof(int32_t));
+    m.fix_val = calloc((size_t)(ny + 2), sizeof(double));
+    m.fix_dof[m.nfix++] = 0, m.fix_dof[m.nfix++] = 1;            /* node 0: x and y */
+    for (int j = 1; j <= ny; j++) m.fix_dof[m.nfix++] = 2 * (j * (nx + 1));
+    m.have |= AUG_HAVE_FIXD;
+    m.load_dof = malloc((size_t)(ny + 1) * sizeof(int32_t));
+    m.load_val = malloc((size_t)(ny + 1) * sizeof(double));
+    for (int j = 0; j <= ny; j++) {
+        m.load_dof[m.nload] = 2 * (nx + j * (nx + 1));
+        m.load_val[m.nload++] = sigma * t * H / ny * (j == 0 || j == ny ? 0.5 : 1.0);
+    }
+    m.have |= AUG_HAVE_LOAD;
+    int32_t *map = malloc((size_t)m.nn * 2 * sizeof *map);
+    int64_t n = aug_dofmap(&m, map);
+    aug_err e;
+    cholmod_sparse *K = aug_assemble(&m, map, n, AUG_MAT_K, &cm, &e);
+    double *f = malloc((size_t)n * sizeof *f), *a = malloc((size_t)n * sizeof *a);
+    double *u = malloc((size_t)m.nn * 2 * sizeof *u), rr;
+    T_CHECK(K && aug_load_vector(&m, map, n, f, &e) == 0, "assemble/load: %s", e.msg);
+    aug_factor_options(&cm, AUG_ORDER_AUTO, 0);
+    cholmod_factor *Lf = aug_analyze(K, &cm, &e);
+    T_CHECK(Lf && aug_factorize(K, Lf, &m, map, &cm, &e) == 0 && aug_solve(K, Lf, f, a, &rr, &cm, &e) == 0,
+            "solve: %s", e.msg);
+    aug_expand_field(&m, map, a, u);
+    double err = 0;
+    for (int64_t i = 0; i < m.nn; i++) {
+        const double *x = m.x + 2 * i;
+        err = fmax(err, fabs(u[2 * i] - sigma * x[0] / E));
+        err = fmax(err, fabs(u[2 * i + 1] + nu * sigma * x[1] / E));
+    }
+    T_CHECK(err <= 1e-12 * sigma * L / E, "plane-stress tension: max error %g", err);
+    cholmod_free_factor(&Lf, &cm);
+    cholmod_free_sparse(&K, &cm);
+    free(map), free(f), free(a), free(u);
+    aug_mesh_free(&m);
+}
+
 /* global symmetric matrix: max |A - A'| relative (upper storage makes this a
    check of the stored pattern: only i <= j entries, sorted, unique) */
 static void check_upper_sorted(const cholmod_sparse *A, const char *what)
@@ -433,6 +481,7 @@ int main(void)
     T_RUN(test_global_null_space);
     T_RUN(test_patch_tet4);
     T_RUN(test_patch_tri3);
+    T_RUN(test_plane_stress_tension);
     T_RUN(test_mass);
     T_RUN(test_multimaterial_sum);
     T_RUN(test_assembly_vs_triplets);
