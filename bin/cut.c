@@ -411,6 +411,7 @@ int main(int argc, char **argv)
             aug_tool_check(&t, aug_write_kv(t.w, "tIMe", step, &q, &e), &e);
         }
         aug_cut_step_free(&st);
+        aug_progress(&t, k, o.steps);
     }
     aug_tool_close(&t);
     aug_plane_free(&pc);

@@ -368,6 +368,7 @@ int main(int argc, char **argv)
                 aug_mdelta_free(&d);
             } else {
                 step(&t, &st, &o, &rec);
+                aug_progress(&t, rec.step, 0);
                 continue; /* passed through before the step's own records */
             }
         }
