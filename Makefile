@@ -4,7 +4,7 @@
 #   make check     deps, build, every test; ends with "N passed, N failed"
 #   make demo      deps, build, the bundled progressive cut
 #   make bench     the papers' figures as CSV + PNG in bench/out/
-#   make check-asan    unit tests and the shell tests' pipelines with ASan+UBSan tools
+#   make check-asan    ASan+UBSan unit tests and every shell test with the ASan+UBSan tools
 #   make check-valgrind  every tool under valgrind memcheck on a small pipeline
 #   make fuzz
 
