@@ -4,7 +4,9 @@
 #   make check     deps, build, every test; ends with "N passed, N failed"
 #   make demo      deps, build, the bundled progressive cut
 #   make bench     the papers' figures as CSV + PNG in bench/out/
-#   make check-asan / make fuzz
+#   make check-asan    ASan+UBSan unit tests and every shell test with the ASan+UBSan tools
+#   make check-valgrind  every tool under valgrind memcheck on a small pipeline
+#   make fuzz
 
 CC      ?= cc
 CFLAGS  ?= -O2 -g
@@ -36,9 +38,11 @@ DEPS = /usr/include/suitesparse/cholmod.h:libsuitesparse-dev \
        /usr/bin/clang:clang \
        /usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a:libclang-rt-14-dev \
        /usr/bin/python3:python3 \
+       /usr/lib/python3/dist-packages/vtk.py:python3-vtk9 \
+       /usr/bin/valgrind:valgrind \
        /usr/include/valgrind/valgrind.h:valgrind
 
-.PHONY: all deps check demo bench check-asan fuzz clean scenes mutate
+.PHONY: all deps check demo bench check-asan check-valgrind fuzz clean scenes mutate
 all: $(TOOLS) $(UNIT)
 
 deps:
@@ -87,6 +91,14 @@ $(B)/asan/tests/%: tests/unit/%.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) $(ASAN_FLAGS) -Itests/unit -o $@ $< $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(LDLIBS_NUM)
 ASAN_UNIT := $(UNIT_SRC:tests/unit/%.c=$(B)/asan/tests/%)
+# ... and of the tools, for the shell tests' second pass (tests/run.sh)
+$(B)/asan/bin/meshload: bin/meshload.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(ASAN_FLAGS) -o $@ $< $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(LDLIBS_GMSH) $(LDLIBS_NUM)
+$(B)/asan/bin/%: bin/%.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(ASAN_FLAGS) -o $@ $< $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(LDLIBS_NUM)
+ASAN_TOOLS := $(TOOLS:bin/%=$(B)/asan/bin/%)
 
 # Bundled scenes, meshed by gmsh from scenes/*.geo
 SCENES := $(B)/scenes/beam_h4.msh $(B)/scenes/beam_h16.msh $(B)/scenes/beam_h64.msh \
@@ -103,12 +115,16 @@ $(B)/scenes/square.msh: scenes/square.geo
 scenes: $(SCENES)
 
 check: deps
-	@$(MAKE) --no-print-directory all scenes $(ASAN_UNIT) >$(B).log 2>&1 || { mkdir -p $(B); cat $(B).log; exit 1; }
+	@$(MAKE) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS) >$(B).log 2>&1 || { mkdir -p $(B); cat $(B).log; exit 1; }
 	@sh tests/run.sh
 
 check-asan: deps
-	@$(MAKE) --no-print-directory $(ASAN_UNIT)
+	@$(MAKE) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS)
 	@sh tests/run.sh --asan-only
+
+check-valgrind: deps
+	@$(MAKE) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
+	@sh tests/valgrind.sh
 
 demo: deps
 	@$(MAKE) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }

@@ -204,6 +204,7 @@ int main(int argc, char **argv)
         int64_t n = aug_cut_order(m, rp.nn0, rp.nfree0);
         aug_tool_check(&t, aug_cut_step_write(t.w, m, &st, o.stats, n, ms, &e), &e);
         aug_cut_step_free(&st);
+        aug_progress(&t, k, o.steps);
     }
     if (o.pathfile && nseg == 0) aug_tool_die(&t, "%s: --path %s misses the mesh", t.inname, o.pathfile);
     aug_tool_close(&t);

@@ -116,6 +116,7 @@ int main(int argc, char **argv)
         if (rt && rt->perstep && rec.step >= 0) {
             if (s.nbuf && rec.step != s.step) flush(&t, &s, &o);
             s.step = rec.step;
+            aug_progress(&t, s.step, 0);
             keep(&t, &s, &rec);
         } else if (s.nbuf) {
             keep(&t, &s, &rec); /* an ancillary record between a step's records keeps its place */

@@ -185,7 +185,10 @@ int main(int argc, char **argv)
     while (aug_tool_read(&t, &rec)) {
         aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
         aug_tool_check(&t, aug_sys0_add(&sys, &rec, &e), &e);
-        if (!memcmp(rec.type, "UPDT", 4)) step(&t, &o, &rp, &sys, &full_ms, &rec);
+        if (!memcmp(rec.type, "UPDT", 4)) {
+            step(&t, &o, &rp, &sys, &full_ms, &rec);
+            aug_progress(&t, rec.step, 0);
+        }
         else aug_tool_pass(&t, &rec);
     }
     aug_tool_close(&t);

@@ -1,4 +1,4 @@
-/* stats: any augcut stream -> a summary, a text dump, a CSV of per-step figures or a .vtu file. */
+/* stats: any augcut stream -> a summary, a text dump, a CSV of per-step figures, VTK or Matrix Market files. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -7,7 +7,8 @@
 #include "cli/aug_opt.h"
 
 static const char *synopsis =
-    "stats [--dump [--no-times] | --csv | --vtk FILE.vtu [--step S]] [FILE]";
+    "stats [--dump [--no-times] | --csv | --vtk FILE.vtu [--step S] | --vtk DIR/NAME.pvd |\n"
+    "       --mtx PREFIX [--step S]] [FILE]";
 
 static const char *help =
     "  (no option)       human-readable summary of the stream\n"
@@ -15,13 +16,15 @@ static const char *help =
     "  --no-times        with --dump: leave out the tIMe records (the only ones that vary)\n"
     "  --csv             one row per (step, method) from sTAt and tIMe records\n"
     "  --vtk FILE.vtu    the mesh of the last step (and its displacement) for ParaView\n"
-    "  --step S          with --vtk: the mesh and field of step S instead\n"
+    "  --vtk D/NAME.pvd  every step as D/NAME_SSSS.vtu and their ParaView collection\n"
+    "  --mtx PREFIX      K (and M) of the last step in Matrix Market: PREFIX_K.mtx ...\n"
+    "  --step S          with --vtk FILE.vtu or --mtx: step S instead of the last\n"
     "  FILE              the stream to read (default: stdin)\n"
     "  -h                this help; see stats(1)\n";
 
 typedef struct options {
     int dump, no_times, csv;
-    const char *vtk;
+    const char *vtk, *mtx;
     long step;            /* -1: the last step */
     const char *file;
 } options;
@@ -37,14 +40,17 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--csv", &o->csv)},
         {AUG_OPT_STRING("--vtk", &o->vtk, "a value"), .bad = "empty file name",
          .flags = AUG_OPT_ONCE | AUG_OPT_NONEMPTY},
+        {AUG_OPT_STRING("--mtx", &o->mtx, "a value"), .bad = "empty file name",
+         .flags = AUG_OPT_ONCE | AUG_OPT_NONEMPTY},
         {AUG_OPT_INT("--step", &o->step, 0, INT32_MAX, "a value"), .bad = "not a step number (0, 1, ...)",
          .given = &nstep},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
-    if (o->dump + o->csv + (o->vtk != NULL) > 1)
-        aug_tool_usage(t, "--dump, --csv and --vtk exclude each other");
+    if (o->dump + o->csv + (o->vtk != NULL) + (o->mtx != NULL) > 1)
+        aug_tool_usage(t, "--dump, --csv, --vtk and --mtx exclude each other");
     if (o->no_times && !o->dump) aug_tool_usage(t, "--no-times goes with --dump");
-    if (nstep && !o->vtk) aug_tool_usage(t, "--step goes with --vtk");
+    if (nstep && !o->mtx && (!o->vtk || aug_path_is_pvd(o->vtk)))
+        aug_tool_usage(t, "--step goes with --vtk FILE.vtu or --mtx (a .pvd has every step)");
     aug_tool_usage_done(t, synopsis);
 }
 
@@ -73,50 +79,43 @@ static void run_dump(aug_tool *t, const options *o)
     aug_dump_free(&d);
 }
 
-static void write_vtk(aug_tool *t, const options *o, const aug_summary *s)
+/* the step of --step, or the last one; dies when the stream does not reach it */
+static int32_t chosen_step(aug_tool *t, const options *o, const aug_summary *s)
 {
-    aug_err e;
     int32_t last = aug_summary_last_step(s);
     if (o->step > last && last < 0)
         aug_tool_die(t, "%s: --step %ld: the stream has no per-step records", t->inname, o->step);
     if (o->step > last)
         aug_tool_die(t, "%s: --step %ld: the stream's last step is %d", t->inname, o->step, (int)last);
-    const aug_mesh *m = aug_summary_mesh(s);
-    if (!m) aug_tool_die(t, "%s: no mesh in the stream (NODE, MATL and ELEM needed)", t->inname);
-    int32_t fstep;
-    double *u;
-    unsigned char *mask;
-    aug_tool_check(t, aug_summary_field(s, &fstep, &u, &mask, &e), &e);
-    int32_t want = o->step >= 0 ? (int32_t)o->step : last;
-    if (u && fstep != want) { /* a field of an earlier step does not belong to this mesh */
-        free(u);
-        free(mask);
-        u = NULL;
-        mask = NULL;
-    }
-    FILE *f = fopen(o->vtk, "w");
-    if (!f) aug_tool_die(t, "%s: %s", o->vtk, strerror(errno));
-    int rc = aug_vtk_write(f, m, u, mask, &e);
-    if (fclose(f) != 0 && !rc) rc = aug_err_set(&e, AUG_EIO, -1, "", "write failed");
-    free(u);
-    free(mask);
-    if (rc) {
-        remove(o->vtk);
-        aug_tool_die(t, "%s: %s", o->vtk, e.msg);
-    }
+    return o->step >= 0 ? (int32_t)o->step : last < 0 ? 0 : last;
 }
 
-/* summary, CSV and VTK read the whole stream first */
+/* a failed run leaves no .pvd, .vtu or .mtx behind; output errors name their file */
+static void fail(aug_tool *t, aug_pvd *pvd, aug_mtx *mx, const aug_err *e)
+{
+    aug_pvd_free(pvd, 1);
+    aug_mtx_free(mx, 1);
+    if ((e->code == AUG_EIO || e->code == AUG_EUSAGE) && e->record < 0) aug_tool_die(t, "%s", e->msg);
+    aug_tool_fail(t, e);
+}
+
+/* summary, CSV, VTK and Matrix Market read the whole stream first (a .pvd
+   writes each step as the stream passes it) */
 static void run_collect(aug_tool *t, const options *o)
 {
     aug_err e, bad;
     aug_rec rec;
     memset(&rec, 0, sizeof rec);
-    aug_summary *s = aug_summary_new(t->r, o->vtk && o->step >= 0 ? (int32_t)o->step : INT32_MAX, &e);
-    if (!s) aug_tool_fail(t, &e);
+    aug_summary *s = aug_summary_new(t->r, o->step >= 0 ? (int32_t)o->step : INT32_MAX, &e);
+    aug_pvd *pvd = NULL;
+    aug_mtx *mx = NULL;
+    if (!s || (o->vtk && aug_path_is_pvd(o->vtk) && !(pvd = aug_pvd_new(o->vtk, &e))) ||
+        (o->mtx && !(mx = aug_mtx_new(&e))))
+        fail(t, pvd, mx, &e);
     int rc, failed = 0;
     while ((rc = aug_read(t->r, &rec, &e)) > 0)
-        if (aug_summary_add(s, &rec, &e)) {
+        if ((pvd && aug_pvd_add(pvd, s, &rec, &e)) || (mx && aug_mtx_add(mx, &rec, &e)) ||
+            aug_summary_add(s, &rec, &e)) {
             failed = 1;
             break;
         }
@@ -126,15 +125,20 @@ static void run_collect(aug_tool *t, const options *o)
     if (o->csv) {
         if (failed) aug_tool_fail(t, &bad);
         aug_tool_check(t, aug_steptab_csv(stdout, aug_summary_steps(s), &e), &e);
-    } else if (o->vtk) {
-        if (failed) aug_tool_fail(t, &bad);
-        write_vtk(t, o, s);
+    } else if (o->vtk || o->mtx) {
+        if (failed) fail(t, pvd, mx, &bad);
+        if (pvd) rc = aug_pvd_end(pvd, s, &e);
+        else if (mx) rc = aug_mtx_write(mx, chosen_step(t, o, s), aug_summary_mesh(s), o->mtx, &e);
+        else rc = aug_vtk_step_file(o->vtk, s, chosen_step(t, o, s), &e);
+        if (rc) fail(t, pvd, mx, &e);
     } else {
         /* a broken stream still gets the summary of what was read, then the error */
         aug_tool_check(t, aug_summary_print(stdout, s, t->inname, &e), &e);
         fflush(stdout);
         if (failed) aug_tool_fail(t, &bad);
     }
+    aug_pvd_free(pvd, 0);
+    aug_mtx_free(mx, 0);
     aug_rec_free(&rec);
     aug_summary_free(s);
 }

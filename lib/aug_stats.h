@@ -1,6 +1,7 @@
 /* augcut stats layer: mesh quality summaries, the deterministic text dump of
    every record, the per-step (step, method) table and its CSV, the stream
-   summary, and the VTK .vtu export. These functions write text to a FILE the
+   summary, the VTK .vtu export and .pvd time series, and the Matrix Market
+   export of K and M. These functions write text to a FILE the
    caller gives them; they never print anywhere else and never exit. */
 #ifndef AUG_STATS_H
 #define AUG_STATS_H
@@ -90,5 +91,40 @@ int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned 
    displacement_mask (mask, or all 1 when mask is NULL). */
 int aug_vtk_write(FILE *out, const aug_mesh *m, const double *u, const unsigned char *mask,
                   aug_err *e);
+/* path := the .vtu of step `step` of a summary read up to it (step limit >=
+   step): its mesh and the displacement field of that very step, if any. File
+   errors name the file (AUG_EIO, record -1); a file that failed is removed. */
+int aug_vtk_step_file(const char *path, const aug_summary *s, int32_t step, aug_err *e);
+
+/* ParaView time series of a cut sequence: DIR/NAME.pvd lists one
+   DIR/NAME_SSSS.vtu (aug_vtk_write; SSSS the step number, at least four
+   digits) per step: step 0 and every step that has a per-step record, each
+   with the mesh of that step and the displacement field (fELD kind 0) of that
+   very step if the stream has one; DataSet timestep = the step number. Feed
+   every record to aug_pvd_add before aug_summary_add (summary made with step
+   limit INT32_MAX) absorbs it: a step is written once a record of a later
+   step arrives; aug_pvd_end writes the last step and the .pvd. */
+typedef struct aug_pvd aug_pvd;
+int aug_path_is_pvd(const char *path);  /* ends in ".pvd" */
+aug_pvd *aug_pvd_new(const char *path, aug_err *e);
+int aug_pvd_add(aug_pvd *p, const aug_summary *s, const aug_rec *rec, aug_err *e);
+int aug_pvd_end(aug_pvd *p, const aug_summary *s, aug_err *e);
+/* discard: remove every file written (a failed run leaves none behind). */
+void aug_pvd_free(aug_pvd *p, int discard);
+
+/* Matrix Market (coordinate real symmetric, lower triangle, %.17g) export of
+   K (and M) at one step (lib/stats/mtx.c): feed every record to
+   aug_mtx_add (keeps DOFM and the first KMAT of each kind), then
+   aug_mtx_write with m the mesh of that step (aug_summary_mesh). Step 0:
+   PREFIX_K.mtx = the KMAT of K0, PREFIX_M.mtx / PREFIX_ML.mtx = the
+   consistent / lumped mass when present. Step t > 0: PREFIX_K.mtx = K_t in
+   the cut-matrix numbering (formats/stream.md 7.2) assembled from scratch on
+   m (aug_assemble_cut), equal to K0 with the updates of steps 1..t applied. */
+typedef struct aug_mtx aug_mtx;
+aug_mtx *aug_mtx_new(aug_err *e);
+int aug_mtx_add(aug_mtx *x, const aug_rec *rec, aug_err *e);
+int aug_mtx_write(aug_mtx *x, int32_t step, const aug_mesh *m, const char *prefix, aug_err *e);
+/* discard: remove the files written. */
+void aug_mtx_free(aug_mtx *x, int discard);
 
 #endif

@@ -50,6 +50,13 @@ int aug_parse_doubles(const char *s, double *v, int n);
 int aug_parse_long(const char *s, long *v);
 int aug_parse_double(const char *s, double *v);
 
+/* Progress of a per-step loop, called once per step done (i of n; n <= 0:
+   unknown): when stderr is a terminal and the run is past about 2 s since the
+   first call, one line "prog: step i/n, R Hz" on stderr, rewritten in place
+   (\r) at most 4 times a second and cleared when i reaches n, at exit or by
+   i < 0 (before a message); silent when stderr is not a terminal. */
+void aug_progress(const aug_tool *t, long i, long n);
+
 /* Threads of CHOLMOD/OpenBLAS (nthreads <= 0: 1). Call right after option
    parsing, before any input is read: when OMP_THREAD_LIMIT is not set, the
    tool re-executes itself once with OMP_THREAD_LIMIT=nthreads (libgomp reads

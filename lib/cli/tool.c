@@ -49,6 +49,7 @@ void aug_tool_usage_done(aug_tool *t, const char *synopsis)
 
 void aug_tool_fail(aug_tool *t, const aug_err *e)
 {
+    aug_progress(t, -1, 0);
     const char *where = t->inname;
     if (e->output) where = "<stdout>";
     if (e->record >= 0)
@@ -64,6 +65,7 @@ void aug_tool_fail(aug_tool *t, const aug_err *e)
 void aug_tool_die(aug_tool *t, const char *fmt, ...)
 {
     va_list ap;
+    aug_progress(t, -1, 0);
     fprintf(stderr, "%s: ", t->prog);
     va_start(ap, fmt);
     vfprintf(stderr, fmt, ap);

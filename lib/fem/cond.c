@@ -52,7 +52,7 @@ static int largest(int n, void (*op)(op_ctx *, double *, double *), op_ctx *c, d
                    int maxit, double *theta, int *nops)
 {
     int ncv = n < 24 ? n : 24, lworkl = ncv * (ncv + 8), ido = 0, info = 1;
-    int iparam[11] = {0}, ipntr[14] = {0}, select[24];
+    int iparam[11] = {0}, ipntr[14] = {0}, select[24] = {0}; /* dseupd_c copies select even when unused */
     double *resid = malloc((size_t)n * sizeof *resid);
     double *v = malloc((size_t)n * ncv * sizeof *v), *workd = malloc((size_t)3 * n * sizeof *workd);
     double *workl = malloc((size_t)lworkl * sizeof *workl), d[2] = {0, 0};

@@ -1,5 +1,7 @@
 /* VTK XML UnstructuredGrid (.vtu, ASCII) export of a mesh and a displacement field. */
+#include <errno.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include "aug_stats.h"
 
@@ -98,4 +100,41 @@ int aug_vtk_write(FILE *o, const aug_mesh *m, const double *u, const unsigned ch
     fprintf(o, "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
     if (ferror(o)) return aug_err_set(e, AUG_EIO, -1, "", "write failed");
     return 0;
+}
+
+/* The .vtu file of step `step` of a summary read up to it: its mesh and the
+   displacement field of that very step (a field of an earlier step does not
+   belong to this mesh). File errors name the file (AUG_EIO, record -1); the
+   file is removed when writing it failed. */
+int aug_vtk_step_file(const char *path, const aug_summary *s, int32_t step, aug_err *e)
+{
+    aug_err_clear(e);
+    const aug_mesh *m = aug_summary_mesh(s);
+    if (!m) return aug_err_set(e, AUG_EDATA, -1, "", "no mesh in the stream (NODE, MATL and ELEM needed)");
+    int32_t fstep;
+    double *u;
+    unsigned char *mask;
+    if (aug_summary_field(s, &fstep, &u, &mask, e)) return e->code;
+    if (u && fstep != step) {
+        free(u);
+        free(mask);
+        u = NULL;
+        mask = NULL;
+    }
+    int rc;
+    FILE *f = fopen(path, "w");
+    if (!f) rc = aug_err_set(e, AUG_EIO, -1, "", "%s: %s", path, strerror(errno));
+    else {
+        rc = aug_vtk_write(f, m, u, mask, e);
+        if (fclose(f) != 0 && !rc) rc = aug_err_set(e, AUG_EIO, -1, "", "write failed");
+        if (rc) {
+            char msg[sizeof e->msg];
+            memcpy(msg, e->msg, sizeof msg);
+            aug_err_set(e, rc, -1, "", "%s: %s", path, msg);
+            remove(path);
+        }
+    }
+    free(u);
+    free(mask);
+    return rc;
 }

@@ -1,5 +1,5 @@
 /* Unit tests of the stats layer (quality summary, step table, dump, summary,
-   VTK) on hand-made elements and streams. Also the generator of the streams
+   VTK, .pvd series, Matrix Market) on hand-made elements and streams. Also the generator of the streams
    the stats_*.test shell tests read:
      statslib gen3 FILE [deflate] [slow]   3-D stream with every record type
      statslib gen2 FILE                    2-D stream (two triangles)
@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "augcut.h"
 #include "t.h"
 
@@ -702,6 +703,67 @@ static void test_dump_bad_payload(void)
     free(p);
 }
 
+/* .pvd series and .mtx export with every allocation failing once in turn:
+   each run ends in AUG_ENOMEM or success; a failed run, discarded, leaves no
+   file; the run that succeeds writes the steps 0 and 1 and K of step 0 */
+static void test_series_alloc_failure(void)
+{
+    size_t len;
+    char *s = mem_stream(3, 0, &len);
+    char dir[] = "/tmp/statslib.XXXXXX";
+    T_CHECK(mkdtemp(dir) != NULL, "mkdtemp");
+    char pvd[64], k[64], prefix[64];
+    snprintf(pvd, sizeof pvd, "%s/s.pvd", dir);
+    snprintf(prefix, sizeof prefix, "%s/m", dir);
+    snprintf(k, sizeof k, "%s/m_K.mtx", dir);
+    int done = 0, bad = 0, left = 0;
+    for (long n = 0; !done && n < 5000; n++) {
+        FILE *in = fmemopen(s, len, "rb");
+        aug_err e;
+        aug_fail_after(n);
+        int rc = -1;
+        aug_reader *r = aug_reader_open(in, "mem", &e);
+        aug_summary *sm = r ? aug_summary_new(r, INT32_MAX, &e) : NULL;
+        aug_pvd *p = sm ? aug_pvd_new(pvd, &e) : NULL;
+        aug_mtx *x = p ? aug_mtx_new(&e) : NULL;
+        if (x) {
+            aug_rec rec;
+            memset(&rec, 0, sizeof rec);
+            int q;
+            while ((q = aug_read(r, &rec, &e)) > 0)
+                if (aug_pvd_add(p, sm, &rec, &e) || aug_mtx_add(x, &rec, &e) ||
+                    aug_summary_add(sm, &rec, &e))
+                    break;
+            if (q == 0) {
+                rc = aug_pvd_end(p, sm, &e);
+                if (!rc) rc = aug_mtx_write(x, 0, aug_summary_mesh(sm), prefix, &e);
+            }
+            aug_rec_free(&rec);
+        }
+        aug_fail_after(-1);
+        if (rc && e.code != AUG_ENOMEM) bad++;
+        done = rc == 0;
+        aug_pvd_free(p, !done);
+        aug_mtx_free(x, !done);
+        if (!done) left += !access(pvd, F_OK) || !access(k, F_OK);
+        aug_summary_free(sm);
+        aug_reader_free(r);
+        fclose(in);
+    }
+    T_CHECK(done, "never succeeded");
+    T_CHECK(bad == 0, "%d failures other than out of memory", bad);
+    T_CHECK(left == 0, "%d failed runs left files", left);
+    const char *want[] = {"s.pvd", "s_0000.vtu", "s_0001.vtu", "m_K.mtx"};
+    for (int i = 0; i < 4; i++) {
+        char f[96];
+        snprintf(f, sizeof f, "%s/%s", dir, want[i]);
+        T_CHECK(access(f, F_OK) == 0, "%s not written", want[i]);
+        remove(f);
+    }
+    rmdir(dir);
+    free(s);
+}
+
 int main(int argc, char **argv)
 {
     if (argc >= 3 && (!strcmp(argv[1], "gen3") || !strcmp(argv[1], "gen2"))) {
@@ -731,5 +793,6 @@ int main(int argc, char **argv)
     T_RUN(test_vtk_counts);
     T_RUN(test_dump_bad_payload);
     T_RUN(test_alloc_failure);
+    T_RUN(test_series_alloc_failure);
     T_EXIT();
 }
