@@ -51,8 +51,8 @@ fi
 # (build/asan/bin, LSan on, tests/lsan.supp). make check runs the pipeline
 # tests only: the other (usage, error, damaged-stream) tests add about 2
 # minutes under ASan, and make check with every shell test twice took 9m20s
-# to 13m43s on the 2-core machine shared with other jobs (5m16s with this
-# subset). make check-asan (--asan-only) runs every shell test.
+# to 13m43s on the 2-core machine shared with other jobs (5m16s to 11m37s
+# with this subset, under the same load). make check-asan (--asan-only) runs every shell test.
 ASAN_TESTS="cut_detach cut_path cut_plane cut_solve golden progress refine_pipeline solve_output
             solve_pipeline solve_singular stats_mtx stats_pipeline stats_pvd stats_vtk"
 [ $asan_only -eq 1 ] && ASAN_TESTS=$(for t in tests/*.test; do basename "$t" .test; done)
