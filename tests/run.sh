@@ -12,7 +12,10 @@ export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 export AUG_BIN="$PWD/bin" AUG_DATA="$PWD/tests/data" AUG_SCENES="$PWD/$B/scenes" AUG_ROOT="$PWD"
 log=$B/test.log; : > $log
 
-run_unit() { # $1 binary, $2 label prefix
+run_unit() { # $1 binary, $2 label prefix: a missing binary or one that passes nothing fails
+    if [ ! -x "$1" ]; then
+        echo "${2}FAIL $(basename "$1"): not built ($1)"; fail=$((fail + 1)); return
+    fi
     out=$("$1" 2>&1); rc=$?
     echo "$out" >> $log
     p=$(printf '%s\n' "$out" | grep -c '^PASS ')
@@ -20,15 +23,17 @@ run_unit() { # $1 binary, $2 label prefix
     printf '%s\n' "$out" | grep '^FAIL ' | sed "s|^|$2|"
     if [ $rc -ne 0 ] && [ $f -eq 0 ]; then
         echo "${2}FAIL $(basename "$1"): exit $rc"; printf '%s\n' "$out" | tail -5; f=1
+    elif [ $p -eq 0 ] && [ $f -eq 0 ]; then
+        echo "${2}FAIL $(basename "$1"): ran no test"; f=1
     fi
     pass=$((pass + p)); fail=$((fail + f))
 }
 
 if [ $asan_only -eq 0 ]; then
-    for t in $B/tests/*; do [ -x "$t" ] && run_unit "$t" ""; done
+    for u in tests/unit/*.c; do run_unit "$B/tests/$(basename "$u" .c)" ""; done
 fi
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-for t in $B/asan/tests/*; do [ -x "$t" ] && run_unit "$t" "asan: "; done
+for u in tests/unit/*.c; do run_unit "$B/asan/tests/$(basename "$u" .c)" "asan: "; done
 unset ASAN_OPTIONS UBSAN_OPTIONS
 
 run_shell() { # $1 test file, $2 label prefix; AUG_BIN as exported
@@ -46,9 +51,10 @@ run_shell() { # $1 test file, $2 label prefix; AUG_BIN as exported
 if [ $asan_only -eq 0 ]; then
     for t in tests/*.test; do run_shell "$t" ""; done
 fi
+[ $pass -gt 0 ] || { echo "FAIL: no test ran"; fail=$((fail + 1)); }
 
 # Second pass: shell tests again, every tool built with ASan+UBSan
-# (build/asan/bin, LSan on, tests/lsan.supp). make check runs the pipeline
+# (build/asan/bin, LSan on, no suppressions). make check runs the pipeline
 # tests only: the other (usage, error, damaged-stream) tests add about 2
 # minutes under ASan, and make check with every shell test twice took 9m20s
 # to 13m43s on the 2-core machine shared with other jobs (5m16s to 11m37s
@@ -57,8 +63,11 @@ ASAN_TESTS="cut_detach cut_path cut_plane cut_solve golden progress refine_pipel
             solve_pipeline solve_singular stats_mtx stats_pipeline stats_pvd stats_vtk"
 [ $asan_only -eq 1 ] && ASAN_TESTS=$(for t in tests/*.test; do basename "$t" .test; done)
 export AUG_BIN="$PWD/$B/asan/bin"
+for tool in bin/*.c; do
+    [ -x "$AUG_BIN/$(basename "$tool" .c)" ] || { echo "asan: FAIL $(basename "$tool" .c): not built"; fail=$((fail + 1)); }
+done
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
+export LSAN_OPTIONS="print_suppressions=0"
 for t in $ASAN_TESTS; do run_shell "tests/$t.test" "asan: "; done
 unset ASAN_OPTIONS UBSAN_OPTIONS LSAN_OPTIONS
 echo "$pass passed, $fail failed"

@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.." || exit 2
 B=$PWD/bin S=$PWD/build/scenes G=$PWD/tests/golden
 out=build/valgrind; rm -rf $out; mkdir -p $out
 export OMP_THREAD_LIMIT=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
-VG="valgrind -q --tool=memcheck --suppressions=$PWD/tests/valgrind.supp --leak-check=full --errors-for-leak-kinds=definite --show-leak-kinds=definite --error-exitcode=99 --track-origins=yes"
+VG="valgrind -q --tool=memcheck --leak-check=full --errors-for-leak-kinds=definite --show-leak-kinds=definite --error-exitcode=99 --track-origins=yes"
 pass=0; fail=0; n=0
 vg() { # $1 stdin file or -, $2 stdout file, then the tool and its arguments
     in=$1; o=$2; shift 2; n=$((n + 1)); log=$out/$n.$1.log
