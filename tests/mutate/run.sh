@@ -24,7 +24,7 @@ for line in open(os.path.join(root, "tests/mutate/mutants.txt")):
         blocks.append(cur)
     elif cur is not None and ":" in line and not line.startswith("#"):
         k, v = line.split(":", 1)
-        cur[k.strip()] = v.strip()
+        cur[k.strip()] = v.strip().replace("\\n", "\n")
 env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", AUG_BIN=scratch + "/bin",
            AUG_DATA=scratch + "/tests/data", AUG_SCENES=scratch + "/build/scenes", AUG_ROOT=scratch)
 full = os.environ.get("MUTATE_FULL") == "1"

@@ -9,8 +9,11 @@ usage: craft.py KIND IN [IN2] > OUT
   fvec-nan       the first FVEC's entry 0 = NaN
   mdlt-nan       the first MDLT's first new node x = NaN
   mdlt-flags     the first MDLT's flags = 0x40
+  mdlt-noflags   every MDLT's flags = 0 (a detached step no longer says so)
   mdlt-invert    the first MDLT's first changed element with two nodes swapped
   updt-order     the first UPDT with m >= 1 gets H[0] = -1
+  updt-asym      the first UPDT's E(0,1) changed, E(1,0) not (E not symmetric)
+  fvec-long      the first FVEC with 8 bytes more than its n says
   set-names      two nSEt records named "a\\nb\\x1b[31m" (the second a repeat)
   after-tail     the stream twice, one after the other
   empty-deflate  + a pROv record with an empty deflated payload
@@ -99,6 +102,12 @@ def main():
         p = bytearray(recs[i][3])
         struct.pack_into("<i", p, len(p) - 8, 0x40)
         put(recs, i, p)
+    elif kind == "mdlt-noflags":
+        for i, r in enumerate(recs):
+            if r[0] == "MDLT":
+                p = bytearray(r[3])
+                struct.pack_into("<i", p, len(p) - 8, 0)
+                put(recs, i, p)
     elif kind == "mdlt-invert":
         dim, nv = mesh_dims(recs)
         i = first(recs, "MDLT")
@@ -117,6 +126,17 @@ def main():
         p = bytearray(recs[i][3])
         struct.pack_into("<i", p, 8, -1)            # H[0] = -1: H not increasing from 0
         put(recs, i, p)
+    elif kind == "updt-asym":
+        i = first(recs, "UPDT")
+        p = bytearray(recs[i][3])
+        m, k = struct.unpack_from("<ii", p, 0)
+        assert m + k >= 2
+        at = 8 + 4 * m + 8 * (m + k)             # E(0, 1), column-major
+        struct.pack_into("<d", p, at, struct.unpack_from("<d", p, at)[0] + 1.0)
+        put(recs, i, p)
+    elif kind == "fvec-long":
+        i = first(recs, "FVEC")
+        put(recs, i, recs[i][3] + struct.pack("<d", 1.0))
     elif kind == "set-names":
         i = first(recs, "nSEt")
         p = bytearray(recs[i][3])
