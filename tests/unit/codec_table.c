@@ -276,6 +276,29 @@ static void test_field_writer_refuses_nan(void)
     fclose(f);
 }
 
+/* a node set with a repeated node is refused by the codec check on its own */
+static void test_set_order_refused(void)
+{
+    aug_err e;
+    unsigned char buf[64 + 8 + 12];
+    memset(buf, 0, sizeof buf);
+    memcpy(buf, "pair", 4);
+    int64_t n = 3;
+    int32_t nodes[3] = {1, 4, 9};
+    memcpy(buf + 64, &n, 8);
+    memcpy(buf + 72, nodes, 12);
+    aug_rec rec;
+    memset(&rec, 0, sizeof rec);
+    memcpy(rec.type, "nSEt", 5);
+    rec.step = -1;
+    rec.data = buf;
+    rec.len = sizeof buf;
+    T_CHECK(aug_check_payload(&rec, &e) == 0, "an increasing set refused: %s", e.msg);
+    nodes[1] = 1;
+    memcpy(buf + 72, nodes, 12);
+    T_CHECK(aug_check_payload(&rec, &e) == AUG_EDATA, "a set with node 1 twice accepted");
+}
+
 int main(void)
 {
     aug_cholmod_start(&cm);
@@ -283,6 +306,7 @@ int main(void)
     T_RUN(test_every_type_round_trips);
     T_RUN(test_non_finite_refused);
     T_RUN(test_field_writer_refuses_nan);
+    T_RUN(test_set_order_refused);
     cholmod_finish(&cm);
     return t_failed_cases != 0;
 }
