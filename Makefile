@@ -4,7 +4,8 @@
 #   make check     deps, build, every test; ends with "N passed, N failed"
 #   make demo      deps, build, the bundled progressive cut
 #   make bench     the papers' figures as CSV + PNG in bench/out/
-#   make check-asan / make fuzz (FUZZ_TIME s per target) / make fuzz-cov (coverage of lib/)
+#   make check-asan / make check-fuzz (the fuzz targets build and run 200 inputs)
+#   make fuzz (FUZZ_TIME s per target) / make fuzz-cov (line coverage of lib/)
 
 CC      ?= cc
 CFLAGS  ?= -O2 -g
@@ -40,7 +41,7 @@ DEPS = /usr/include/suitesparse/cholmod.h:libsuitesparse-dev \
        /usr/bin/python3:python3 \
        /usr/include/valgrind/valgrind.h:valgrind
 
-.PHONY: all deps check demo bench check-asan fuzz fuzz-build fuzz-cov clean scenes
+.PHONY: all deps check demo bench check-asan check-fuzz fuzz fuzz-build fuzz-cov clean scenes
 all: $(TOOLS) $(UNIT)
 
 deps:
@@ -140,6 +141,8 @@ $(B)/fuzz/libaugcut.a: $(LIB_SRC:lib/%.c=$(B)/fuzz/lib/%.o)
 $(B)/fuzz/fuzz_%: fuzz/fuzz_%.c fuzz/fuzz_util.c fuzz/fuzz_util.h $(B)/fuzz/libaugcut.a
 	clang $(FUZZ_FLAGS) -Ifuzz -o $@ $< fuzz/fuzz_util.c $(B)/fuzz/libaugcut.a $(LDLIBS_NUM)
 fuzz-build: $(FUZZ_TARGETS:%=$(B)/fuzz/%)
+check-fuzz: deps fuzz-build
+	@sh tests/fuzz_smoke.sh
 fuzz: deps fuzz-build
 	@for t in $(FUZZ_TARGETS); do mkdir -p $(B)/fuzz/corpus-$$t; \
 	  echo "fuzz: $$t for $(FUZZ_TIME) s"; \

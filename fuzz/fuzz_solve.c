@@ -34,9 +34,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memset(&rec, 0, sizeof rec);
     aug_replay rp;
     aug_replay_init(&rp);
-    /* the output set from the stream's length: all, surface or the stream's own */
-    static const char *const outs[] = {NULL, "surface", "all"};
-    rp.output = outs[size % 3];
+    /* --output from the stream's length: the stream's own, surface, all or a set */
+    static const char *const outs[] = {NULL, "surface", "all", "boundary", "fixed", "nosuch"};
+    rp.output = outs[size % 6];
     aug_sys0 sys;
     aug_solver_opts o;
     aug_solver_opts_default(&o);

@@ -273,7 +273,7 @@ static int read_group(int dim, int tag, int etype, int topdim, aug_tagged_group 
     size_t nxyz;
     gmshModelMeshGetNodesForPhysicalGroup(dim, tag, &g->node_tags, &g->nnode, &xyz, &nxyz, &ierr);
     gmshFree(xyz);
-    if (ierr) return gmsh_error(e, "read the nodes of a physical group");
+    if (ierr || nxyz != 3 * g->nnode) return gmsh_error(e, "read the nodes of a physical group");
     if (dim != topdim) return 0;
     int *ent = NULL;
     size_t nent = 0;
@@ -284,6 +284,11 @@ static int read_group(int dim, int tag, int etype, int topdim, aug_tagged_group 
         size_t *et = NULL, *ct = NULL, net, nct;
         if ((rc = elements_of_type(etype, dim, ent[i], &et, &net, &ct, &nct, e))) break;
         gmshFree(ct);
+        if (nct != net * (etype == AUG_TET4 ? 4 : 3)) {
+            gmshFree(et);
+            rc = gmsh_error(e, "read the elements of a physical group");
+            break;
+        }
         size_t *all = realloc(g->elem_tags, (g->nelem + net + 1) * sizeof *all);
         if (!all) rc = aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
         else if (net) memcpy(all + g->nelem, et, net * sizeof *all);
