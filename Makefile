@@ -6,7 +6,8 @@
 #   make bench     the papers' figures as CSV + PNG in bench/out/
 #   make check-asan    ASan+UBSan unit tests and every shell test with the ASan+UBSan tools
 #   make check-valgrind  every tool under valgrind memcheck on a small pipeline
-#   make fuzz
+#   make check-fuzz (the fuzz targets build and run 200 inputs)
+#   make fuzz (FUZZ_TIME s per target) / make fuzz-cov (line coverage of lib/)
 
 CC      ?= cc
 CFLAGS  ?= -O2 -g
@@ -37,12 +38,14 @@ DEPS = /usr/include/suitesparse/cholmod.h:libsuitesparse-dev \
        /usr/bin/gnuplot:gnuplot-nox \
        /usr/bin/clang:clang \
        /usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a:libclang-rt-14-dev \
+       /usr/lib/llvm-14/bin/llvm-profdata:llvm-14 \
+       /usr/lib/llvm-14/bin/llvm-cov:llvm-14 \
        /usr/bin/python3:python3 \
        /usr/lib/python3/dist-packages/vtk.py:python3-vtk9 \
        /usr/bin/valgrind:valgrind \
        /usr/include/valgrind/valgrind.h:valgrind
 
-.PHONY: all deps check demo bench check-asan check-valgrind fuzz clean scenes mutate
+.PHONY: all deps check demo bench check-asan check-valgrind check-fuzz fuzz fuzz-build fuzz-cov clean scenes mutate
 all: $(TOOLS) $(UNIT)
 
 deps:
@@ -141,18 +144,57 @@ mutate: deps
 	@sh tests/mutate/run.sh
 
 FUZZ_TIME ?= 60
-# The fuzz targets link the whole library, built with clang's coverage hooks.
-FUZZ_FLAGS = -std=c11 -g -O1 -D_GNU_SOURCE -Ilib -I/usr/include/suitesparse -fsanitize=fuzzer,address,undefined
+# The fuzz targets fuzz/fuzz_*.c link the whole library, built with clang's
+# coverage hooks and, in lib/stream/stream.c only, -DAUG_FUZZ_NO_CRC: the CRC
+# is not compared, so mutations reach the codecs and the tools' checks behind
+# it (no other build defines it). Seeds: fuzz/corpus (sh fuzz/make_corpus.sh);
+# what each target finds goes to build/fuzz/corpus-TARGET.
+FUZZ_TARGETS := $(patsubst fuzz/%.c,%,$(wildcard fuzz/fuzz_*.c))
+FUZZ_TARGETS := $(filter-out fuzz_util,$(FUZZ_TARGETS))
+FUZZ_BASE = -std=c11 -g -D_GNU_SOURCE -Ilib -I/usr/include/suitesparse -Wall -Wextra
+FUZZ_FLAGS = $(FUZZ_BASE) -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+FUZZ_NOCRC = -DAUG_FUZZ_NO_CRC -DFUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
 $(B)/fuzz/lib/%.o: lib/%.c $(HDRS)
 	@mkdir -p $(dir $@)
-	clang $(subst fuzzer$(COMMA),fuzzer-no-link$(COMMA),$(FUZZ_FLAGS)) -c -o $@ $<
+	clang $(subst fuzzer$(COMMA),fuzzer-no-link$(COMMA),$(FUZZ_FLAGS)) \
+	  $(if $(filter lib/stream/stream.c,$<),$(FUZZ_NOCRC)) -c -o $@ $<
 $(B)/fuzz/libaugcut.a: $(LIB_SRC:lib/%.c=$(B)/fuzz/lib/%.o)
 	rm -f $@ && ar rcs $@ $^
-fuzz: deps $(B)/tests/stream_io $(B)/fuzz/libaugcut.a
-	@mkdir -p $(B)/fuzz/corpus
-	AUG_WRITE_SEED=$(B)/fuzz/corpus/seed_all_records.aug $(B)/tests/stream_io
-	clang $(FUZZ_FLAGS) -o $(B)/fuzz/fuzz_stream fuzz/fuzz_stream.c $(B)/fuzz/libaugcut.a $(LDLIBS_NUM)
-	$(B)/fuzz/fuzz_stream -max_total_time=$(FUZZ_TIME) -rss_limit_mb=2048 $(B)/fuzz/corpus
+$(B)/fuzz/fuzz_%: fuzz/fuzz_%.c fuzz/fuzz_util.c fuzz/fuzz_util.h $(B)/fuzz/libaugcut.a
+	clang $(FUZZ_FLAGS) -Ifuzz -o $@ $< fuzz/fuzz_util.c $(B)/fuzz/libaugcut.a $(LDLIBS_NUM)
+fuzz-build: $(FUZZ_TARGETS:%=$(B)/fuzz/%)
+check-fuzz: deps fuzz-build
+	@sh tests/fuzz_smoke.sh
+fuzz: deps fuzz-build
+	@for t in $(FUZZ_TARGETS); do mkdir -p $(B)/fuzz/corpus-$$t; \
+	  echo "fuzz: $$t for $(FUZZ_TIME) s"; \
+	  $(B)/fuzz/$$t -max_total_time=$(FUZZ_TIME) -rss_limit_mb=2048 -timeout=30 \
+	    -print_final_stats=1 $(B)/fuzz/corpus-$$t fuzz/corpus 2>$(B)/fuzz/$$t.log || \
+	    { tail -40 $(B)/fuzz/$$t.log; exit 1; }; \
+	  grep '^stat::number_of_executed_units' $(B)/fuzz/$$t.log; done
+
+# Line coverage of lib/ by what the fuzz targets found: the same targets built
+# with -fprofile-instr-generate -fcoverage-mapping (no sanitizers) run once
+# over fuzz/corpus and build/fuzz/corpus-TARGET; the table per file goes to
+# build/cov/report.txt.
+COV_FLAGS = $(FUZZ_BASE) -O0 -fprofile-instr-generate -fcoverage-mapping
+LLVM_BIN = /usr/lib/llvm-14/bin
+$(B)/cov/lib/%.o: lib/%.c $(HDRS)
+	@mkdir -p $(dir $@)
+	clang $(COV_FLAGS) -fsanitize=fuzzer-no-link $(if $(filter lib/stream/stream.c,$<),$(FUZZ_NOCRC)) -c -o $@ $<
+$(B)/cov/libaugcut.a: $(LIB_SRC:lib/%.c=$(B)/cov/lib/%.o)
+	rm -f $@ && ar rcs $@ $^
+$(B)/cov/fuzz_%: fuzz/fuzz_%.c fuzz/fuzz_util.c fuzz/fuzz_util.h $(B)/cov/libaugcut.a
+	clang $(COV_FLAGS) -fsanitize=fuzzer -Ifuzz -o $@ $< fuzz/fuzz_util.c $(B)/cov/libaugcut.a $(LDLIBS_NUM)
+fuzz-cov: deps $(FUZZ_TARGETS:%=$(B)/cov/%)
+	@rm -f $(B)/cov/*.profraw
+	@for t in $(FUZZ_TARGETS); do mkdir -p $(B)/fuzz/corpus-$$t; \
+	  LLVM_PROFILE_FILE=$(B)/cov/$$t.profraw $(B)/cov/$$t -runs=0 -rss_limit_mb=2048 \
+	    $(B)/fuzz/corpus-$$t fuzz/corpus > $(B)/cov/$$t.log 2>&1 || { tail -20 $(B)/cov/$$t.log; exit 1; }; done
+	$(LLVM_BIN)/llvm-profdata merge -o $(B)/cov/fuzz.profdata $(B)/cov/*.profraw
+	$(LLVM_BIN)/llvm-cov report -instr-profile=$(B)/cov/fuzz.profdata $(B)/cov/$(firstword $(FUZZ_TARGETS)) \
+	  $(patsubst %,-object $(B)/cov/%,$(wordlist 2,99,$(FUZZ_TARGETS))) $(LIB_SRC) > $(B)/cov/report.txt
+	@cat $(B)/cov/report.txt
 
 clean:
 	rm -rf $(B) $(B).log lib/libaugcut.a $(TOOLS) bench/out

@@ -6,11 +6,23 @@
 #include "../aug_scene.h"
 
 /* Fill t with the tet4 mesh of the file, or its tri3 mesh when it has no
-   volume elements, and every physical group. gmsh prints nothing: stdout is
-   redirected to /dev/null while it runs and its messages are kept for e.
+   volume elements, and every physical group. gmsh runs in a child process
+   (stdout and stderr on /dev/null, its messages kept for e) that sends t back
+   through a pipe: a crash of gmsh is the error "gmsh failed to read the file
+   (signal N)", and nothing of a reply cut short is used. What gmsh returns is
+   checked first: element types of the mesh's dimension (mixed orders in one
+   entity too), node and element tags gmsh saw twice, the element count of the
+   file's $Elements headers against the elements gmsh kept, array sizes.
    Returns 0, or an error code with e filled (unreadable file, not a .msh
-   file, gmsh's own error, unsupported element types, no elements). */
+   file, gmsh's own error or crash, unsupported element types, no elements). */
 int aug_gmsh_read(const char *path, aug_tagged *t, aug_err *e);
 void aug_gmsh_free(aug_tagged *t);
+
+/* The child's reply (tagged_pipe.c): code 0 and t, or an error code and e's
+   message. send returns 0 or -1 (write failed). recv returns 0 with t filled
+   (free it with aug_gmsh_free), the child's error code with e filled, or -1
+   when the reply is cut short or malformed (t empty). */
+int aug_tagged_send(int fd, int code, const aug_tagged *t, const aug_err *e);
+int aug_tagged_recv(int fd, aug_tagged *t, aug_err *e);
 
 #endif

@@ -1,22 +1,26 @@
-/* gmsh .msh files into aug_tagged through the gmsh C API, with gmsh kept off stdout. */
+/* gmsh .msh files into aug_tagged through the gmsh C API, run in a child process
+   so that a crash of gmsh is an error of the file, never one of meshload. */
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <gmshc.h>
 #include "aug_gmsh.h"
 
 void aug_gmsh_free(aug_tagged *t)
 {
-    gmshFree(t->node_tags);
-    gmshFree(t->xyz);
-    gmshFree(t->elem_tags);
-    gmshFree(t->conn_tags);
+    free(t->node_tags);
+    free(t->xyz);
+    free(t->elem_tags);
+    free(t->conn_tags);
     for (int i = 0; i < t->ngroup; i++) {
-        gmshFree(t->groups[i].node_tags);
-        gmshFree(t->groups[i].elem_tags);
+        free(t->groups[i].node_tags);
+        free(t->groups[i].elem_tags);
     }
     free(t->groups);
     memset(t, 0, sizeof *t);
@@ -62,44 +66,189 @@ static int gmsh_error(aug_err *e, const char *what)
     return e->code;
 }
 
+/* the name and dimension of a gmsh element type (dim -1 when gmsh does not know it) */
+static void type_info(int type, int *dim, char name[AUG_NAME])
+{
+    char *s = NULL;
+    double *lc = NULL;
+    size_t nlc;
+    int order, nnodes, nprim, ierr;
+    gmshModelMeshGetElementProperties(type, &s, dim, &order, &nnodes, &lc, &nlc, &nprim, &ierr);
+    snprintf(name, AUG_NAME, "%s", !ierr && s ? s : "?");
+    if (ierr) *dim = -1;
+    gmshFree(s);
+    gmshFree(lc);
+}
+
+/* What gmsh logged while reading: a repeated node or element tag (gmsh keeps
+   one of the definitions and goes on), and the element count of each $Elements
+   header, summed into *declared (0 when gmsh logged none). */
+static int check_log(size_t *declared, aug_err *e)
+{
+    char **log = NULL;
+    size_t nlog = 0, tag;
+    int ierr, rc = 0, pos;
+    gmshLoggerGet(&log, &nlog, &ierr);
+    *declared = 0;
+    for (size_t i = 0; i < nlog; i++) {
+        const char *s = strchr(log[i], ':');
+        s = s ? s + 2 : log[i];
+        pos = -1;
+        if (!rc && sscanf(s, "Skipping duplicate node %zu", &tag) == 1)
+            rc = aug_err_set(e, AUG_EDATA, -1, "", "node tag %zu appears twice", tag);
+        else if (!rc && sscanf(s, "Skipping duplicate element %zu", &tag) == 1)
+            rc = aug_err_set(e, AUG_EDATA, -1, "", "element tag %zu appears twice", tag);
+        else if (!strncmp(log[i], "Info: ", 6) && sscanf(s, "%zu element%n", &tag, &pos) == 1 &&
+                 pos > 0 && (!s[pos] || !strcmp(s + pos, "s")))
+            *declared += tag;
+        gmshFree(log[i]);
+    }
+    gmshFree(log);
+    return rc;
+}
+
 /* the element type of the mesh: tet4 if there are volume elements, else tri3 */
 static int mesh_type(int *etype, aug_err *e)
 {
     int *types = NULL, ierr, top = -1, rc = 0;
     size_t n = 0;
+    char name[AUG_NAME];
     gmshModelMeshGetElementTypes(&types, &n, -1, -1, &ierr);
     if (ierr) return gmsh_error(e, "list the element types");
     int dims[64];
     for (size_t i = 0; i < n && i < 64; i++) {
-        char *name = NULL;
-        double *lc = NULL;
-        size_t nlc;
-        int order, nnodes, nprim;
-        gmshModelMeshGetElementProperties(types[i], &name, &dims[i], &order, &nnodes, &lc, &nlc,
-                                          &nprim, &ierr);
-        gmshFree(name);
-        gmshFree(lc);
-        if (ierr) dims[i] = -1;
+        type_info(types[i], &dims[i], name);
         if (dims[i] > top) top = dims[i];
     }
     *etype = top == 3 ? 4 : 2;
     if (top < 2) rc = aug_err_set(e, AUG_EDATA, -1, "", "the mesh has no tetrahedra or triangles");
     for (size_t i = 0; i < n && i < 64 && !rc; i++)
         if (dims[i] == top && types[i] != *etype) {
-            char *name = NULL;
-            double *lc = NULL;
-            size_t nlc;
-            int d, order, nnodes, nprim;
-            gmshModelMeshGetElementProperties(types[i], &name, &d, &order, &nnodes, &lc, &nlc,
-                                              &nprim, &ierr);
+            int d;
+            type_info(types[i], &d, name);
             rc = aug_err_set(e, AUG_EDATA, -1, "",
                              "element type %d (%s) is not supported: a %d-D mesh must be all %s",
-                             types[i], name ? name : "?", top, top == 3 ? "tet4" : "tri3");
-            gmshFree(name);
-            gmshFree(lc);
+                             types[i], name, top, top == 3 ? "tet4" : "tri3");
         }
     gmshFree(types);
     return rc;
+}
+
+/* The elements of type etype in the entities of dimension dim (tag -1: all of
+   them, else the one entity (dim, tag)) and their node tags. Through
+   gmshModelMeshGetElements, which copies element by element: gmsh 4.8's
+   getElementsByType sizes its arrays by the type of an entity's first element
+   and writes past them when a later one has more nodes. */
+static int elements_of_type(int etype, int dim, int tag, size_t **et, size_t *net, size_t **ct,
+                            size_t *nct, aug_err *e)
+{
+    int *types = NULL, ierr;
+    size_t ntypes = 0, **etags = NULL, *etn = NULL, netn = 0, **ntags = NULL, *ntn = NULL, nntn = 0;
+    gmshModelMeshGetElements(&types, &ntypes, &etags, &etn, &netn, &ntags, &ntn, &nntn, dim, tag, &ierr);
+    *et = *ct = NULL;
+    *net = *nct = 0;
+    for (size_t i = 0; i < ntypes && i < netn && i < nntn; i++) {
+        if (types[i] == etype && !*et) {
+            *et = etags[i], *net = etn[i], *ct = ntags[i], *nct = ntn[i];
+            continue;
+        }
+        gmshFree(etags[i]);
+        gmshFree(ntags[i]);
+    }
+    gmshFree(types);
+    gmshFree(etags);
+    gmshFree(etn);
+    gmshFree(ntags);
+    gmshFree(ntn);
+    if (ierr) return gmsh_error(e, "read the elements");
+    return 0;
+}
+
+/* how many elements gmsh holds in the family (tetrahedra, triangles, ...) of
+   type, in the entities it lists under type: one barycenter each */
+static size_t family_count(int type)
+{
+    double *b = NULL;
+    size_t nb = 0;
+    int ierr;
+    gmshModelMeshGetBarycenters(type, -1, 1, 1, &b, &nb, 0, 1, &ierr);
+    gmshFree(b);
+    return ierr ? 0 : nb / 3;
+}
+
+static int cmp_size(const void *a, const void *b)
+{
+    size_t x = *(const size_t *)a, y = *(const size_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* the tag of an element of dimension dim and type other than etype: tags
+   from 1 up, skipping those of known[n], at most 2^20 lookups; 0 if none */
+static size_t foreign_element(int etype, int dim, const size_t *known, size_t n, int *type)
+{
+    size_t *k = malloc((n ? n : 1) * sizeof *k), j = 0;
+    if (!k) return 0;
+    memcpy(k, known, n * sizeof *k);
+    qsort(k, n, sizeof *k, cmp_size);
+    for (size_t tag = 1, tries = 0; tries < (1u << 20); tag++) {
+        while (j < n && k[j] < tag) j++;
+        if (j < n && k[j] == tag) continue;
+        tries++;
+        size_t *nodes = NULL, nn;
+        int ierr, d;
+        char name[AUG_NAME];
+        gmshModelMeshGetElement(tag, type, &nodes, &nn, &ierr);
+        gmshFree(nodes);
+        if (ierr || *type == etype) continue;
+        type_info(*type, &d, name);
+        if (d == dim) {
+            free(k);
+            return tag;
+        }
+    }
+    free(k);
+    return 0;
+}
+
+/* Every element of the mesh's dimension is of type etype (nelem of them, tags
+   et): gmsh lists an entity's types by its first element, so a quadratic
+   tetrahedron among linear ones shows only in the count of the family. */
+static int check_orders(int etype, const size_t *et, size_t nelem, aug_err *e)
+{
+    size_t all = family_count(etype);
+    if (all <= nelem) return 0;
+    int dim = etype == AUG_TET4 ? 3 : 2, type = 0;
+    const char *want = etype == AUG_TET4 ? "tet4" : "tri3";
+    gmshLoggerStop(&(int){0});
+    size_t tag = foreign_element(etype, dim, et, nelem, &type);
+    if (tag) {
+        char name[AUG_NAME];
+        type_info(type, &dim, name);
+        return aug_err_set(e, AUG_EDATA, -1, "",
+                           "element type %d (%s) is not supported: a %d-D mesh must be all %s "
+                           "(gmsh tag %zu, among %s elements)", type, name, dim, want, tag, want);
+    }
+    return aug_err_set(e, AUG_EDATA, -1, "",
+                       "%zu elements of a %s mix orders with %s: a %d-D mesh must be all %s", all - nelem,
+                       dim == 3 ? "volume" : "surface", want, dim, want);
+}
+
+/* the element count of the $Elements headers against the elements gmsh holds
+   (of any type and dimension): gmsh keeps one of two elements with the same
+   tag of an MSH 2 file and says nothing */
+static int check_count(size_t declared, aug_err *e)
+{
+    int *types = NULL, ierr;
+    size_t n = 0, held = 0;
+    gmshModelMeshGetElementTypes(&types, &n, -1, -1, &ierr);
+    if (ierr) return gmsh_error(e, "list the element types");
+    for (size_t i = 0; i < n; i++) held += family_count(types[i]);
+    gmshFree(types);
+    if (declared > held)
+        return aug_err_set(e, AUG_EDATA, -1, "",
+                           "the file declares %zu elements but %zu have distinct tags: an element tag appears twice",
+                           declared, held);
+    return 0;
 }
 
 /* the physical group (dim, tag): name, node tags, and its elements of type etype */
@@ -124,100 +273,123 @@ static int read_group(int dim, int tag, int etype, int topdim, aug_tagged_group 
     size_t nxyz;
     gmshModelMeshGetNodesForPhysicalGroup(dim, tag, &g->node_tags, &g->nnode, &xyz, &nxyz, &ierr);
     gmshFree(xyz);
-    if (ierr) return gmsh_error(e, "read the nodes of a physical group");
+    if (ierr || nxyz != 3 * g->nnode) return gmsh_error(e, "read the nodes of a physical group");
     if (dim != topdim) return 0;
     int *ent = NULL;
     size_t nent = 0;
     gmshModelGetEntitiesForPhysicalGroup(dim, tag, &ent, &nent, &ierr);
     if (ierr) return gmsh_error(e, "read the entities of a physical group");
-    for (size_t i = 0; i < nent; i++) {
+    int rc = 0;
+    for (size_t i = 0; i < nent && !rc; i++) {
         size_t *et = NULL, *ct = NULL, net, nct;
-        gmshModelMeshGetElementsByType(etype, &et, &net, &ct, &nct, ent[i], 0, 1, &ierr);
+        if ((rc = elements_of_type(etype, dim, ent[i], &et, &net, &ct, &nct, e))) break;
         gmshFree(ct);
-        if (ierr) {
+        if (nct != net * (etype == AUG_TET4 ? 4 : 3)) {
             gmshFree(et);
-            gmshFree(ent);
-            return gmsh_error(e, "read the elements of a physical group");
+            rc = gmsh_error(e, "read the elements of a physical group");
+            break;
         }
-        size_t *all = gmshMalloc((g->nelem + net + 1) * sizeof *all);
-        if (!all) {
-            gmshFree(et);
-            gmshFree(ent);
-            return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
-        }
-        if (g->nelem) memcpy(all, g->elem_tags, g->nelem * sizeof *all);
-        if (net) memcpy(all + g->nelem, et, net * sizeof *all);
-        gmshFree(g->elem_tags);
+        size_t *all = realloc(g->elem_tags, (g->nelem + net + 1) * sizeof *all);
+        if (!all) rc = aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+        else if (net) memcpy(all + g->nelem, et, net * sizeof *all);
         gmshFree(et);
-        g->elem_tags = all;
-        g->nelem += net;
+        if (all) g->elem_tags = all, g->nelem += net;
     }
     gmshFree(ent);
-    return 0;
+    return rc;
 }
 
+/* t := the mesh of the file; runs in the child (which exits after sending t,
+   so nothing here is freed) */
 static int read_model(const char *path, aug_tagged *t, aug_err *e)
 {
     int ierr, rc;
+    size_t declared;
     gmshOpen(path, &ierr);
     if (ierr) return gmsh_error(e, "read it");
-    if ((rc = mesh_type(&t->etype, e))) return rc;
+    if ((rc = check_log(&declared, e)) || (rc = mesh_type(&t->etype, e))) return rc;
     double *pc = NULL;
     size_t ncoord, npc;
     gmshModelMeshGetNodes(&t->node_tags, &t->nnode, &t->xyz, &ncoord, &pc, &npc, -1, -1, 0, 0, &ierr);
     gmshFree(pc);
     if (ierr || ncoord != 3 * t->nnode) return gmsh_error(e, "read the nodes");
+    int topdim = t->etype == AUG_TET4 ? 3 : 2;
     size_t nconn;
-    gmshModelMeshGetElementsByType(t->etype, &t->elem_tags, &t->nelem, &t->conn_tags, &nconn, -1, 0,
-                                   1, &ierr);
-    if (ierr || nconn != t->nelem * (t->etype == 4 ? 4 : 3)) return gmsh_error(e, "read the elements");
+    if ((rc = elements_of_type(t->etype, topdim, -1, &t->elem_tags, &t->nelem, &t->conn_tags, &nconn, e)))
+        return rc;
+    if (nconn != t->nelem * (t->etype == AUG_TET4 ? 4 : 3)) return gmsh_error(e, "read the elements");
+    if ((rc = check_orders(t->etype, t->elem_tags, t->nelem, e)) || (rc = check_count(declared, e)))
+        return rc;
     int *dt = NULL;
     size_t ndt;
     gmshModelGetPhysicalGroups(&dt, &ndt, -1, &ierr);
     if (ierr) return gmsh_error(e, "read the physical groups");
     t->groups = calloc(ndt / 2 + 1, sizeof *t->groups);
-    if (!t->groups) {
-        gmshFree(dt);
-        return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
-    }
-    int topdim = t->etype == 4 ? 3 : 2;
-    for (size_t i = 0; i + 1 < ndt; i += 2) {
+    if (!t->groups) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    for (size_t i = 0; i + 1 < ndt && !rc; i += 2)
         rc = read_group(dt[i], dt[i + 1], t->etype, topdim, &t->groups[t->ngroup++], e);
-        if (rc) break;
-    }
     gmshFree(dt);
     return rc;
+}
+
+/* The child: gmsh reads the file with its messages kept (stdout and stderr
+   on /dev/null, no core file) and the reply goes to fd. Never returns. */
+static void child(const char *path, int fd)
+{
+    aug_tagged t;
+    aug_err e;
+    int ierr, rc, null = open("/dev/null", O_WRONLY);
+    struct rlimit nocore = {0, 0};
+    setrlimit(RLIMIT_CORE, &nocore);
+    if (null < 0 || dup2(null, 1) < 0 || dup2(null, 2) < 0) _exit(3);
+    close(null);
+    memset(&t, 0, sizeof t);
+    aug_err_clear(&e);
+    gmshInitialize(0, NULL, 0, &ierr);
+    if (ierr) {
+        rc = aug_err_set(&e, AUG_EIO, -1, "", "gmsh failed to initialise");
+    } else {
+        gmshOptionSetNumber("General.Terminal", 0, &ierr);
+        gmshLoggerStart(&ierr);
+        rc = read_model(path, &t, &e);
+    }
+    _exit(aug_tagged_send(fd, rc, &t, &e) ? 4 : 0);
 }
 
 int aug_gmsh_read(const char *path, aug_tagged *t, aug_err *e)
 {
     memset(t, 0, sizeof *t);
     aug_err_clear(e);
-    int rc = check_file(path, e);
+    int rc = check_file(path, e), fd[2], status;
     if (rc) return rc;
-    /* gmsh writes messages to stdout: point it at /dev/null while gmsh runs */
     fflush(stdout);
-    int saved = dup(1), null = open("/dev/null", O_WRONLY);
-    if (saved < 0 || null < 0 || dup2(null, 1) < 0) {
-        if (saved >= 0) close(saved);
-        if (null >= 0) close(null);
-        return aug_err_set(e, AUG_EIO, -1, "", "cannot redirect gmsh's output: %s", strerror(errno));
+    fflush(stderr);
+    pid_t pid;
+    if (pipe(fd) < 0) return aug_err_set(e, AUG_EIO, -1, "", "cannot start gmsh: %s", strerror(errno));
+    if ((pid = fork()) < 0) {
+        rc = errno;
+        close(fd[0]);
+        close(fd[1]);
+        return aug_err_set(e, AUG_EIO, -1, "", "cannot start gmsh: %s", strerror(rc));
     }
-    close(null);
-    int ierr;
-    gmshInitialize(0, NULL, 0, &ierr);
-    if (ierr) {
-        rc = aug_err_set(e, AUG_EIO, -1, "", "gmsh failed to initialise");
-    } else {
-        gmshOptionSetNumber("General.Terminal", 0, &ierr);
-        gmshLoggerStart(&ierr);
-        rc = read_model(path, t, e);
-        gmshLoggerStop(&ierr);
-        gmshFinalize(&ierr);
+    if (pid == 0) {
+        close(fd[0]);
+        child(path, fd[1]);
     }
-    fflush(stdout);
-    dup2(saved, 1);
-    close(saved);
-    if (rc) aug_gmsh_free(t);
-    return rc;
+    close(fd[1]);
+    rc = aug_tagged_recv(fd[0], t, e);
+    close(fd[0]);
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR) {
+            status = -1;
+            break;
+        }
+    if (status == 0 && rc >= 0) return rc;
+    aug_gmsh_free(t);
+    if (status != -1 && WIFSIGNALED(status))
+        return aug_err_set(e, AUG_EDATA, -1, "", "gmsh failed to read the file (signal %d)", WTERMSIG(status));
+    if (status != -1 && WIFEXITED(status) && WEXITSTATUS(status))
+        return aug_err_set(e, AUG_EDATA, -1, "", "gmsh failed to read the file (exit status %d)",
+                           WEXITSTATUS(status));
+    return aug_err_set(e, AUG_EIO, -1, "", "gmsh failed to read the file (its reply is incomplete)");
 }

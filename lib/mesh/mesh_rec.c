@@ -186,6 +186,10 @@ static int absorb_outs(aug_mesh *m, const aug_rec *rec, aug_err *e)
     int64_t n = aug_cur_i64(&c);
     if (m->out_kind < AUG_OUT_ALL || m->out_kind > AUG_OUT_SET)
         return DATA("unknown output kind %d", m->out_kind);
+    /* an ancillary oUTs may follow an output set made otherwise (aug_replay's --output) */
+    free(m->out_nodes);
+    m->out_nodes = NULL;
+    m->nout = 0;
     if (read_nodes(m, &c, n, &m->out_nodes, rec, e)) return e->code;
     m->nout = n;
     return 0;

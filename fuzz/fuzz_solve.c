@@ -1,0 +1,59 @@
+/* libFuzzer target: the whole input side of cut and solve-aug in-process: every
+   record through the scene replay (aug_replay_add) and the original system
+   (aug_sys0_add), then each UPDT read, the solver made from the records
+   (aug_sys0_solver: K0, f0, FACT and DOFM agree) and stepped by every method,
+   its field written as solve-aug writes it. */
+#include <string.h>
+#include "fuzz_util.h"
+
+/* one UPDT as solve-aug's step() takes it, minus the reports */
+static int step(aug_replay *rp, aug_sys0 *sys, const aug_solver_opts *o, aug_writer *w,
+                const aug_rec *rec, aug_err *e)
+{
+    aug_update u;
+    int rc = aug_read_update(rec, &u, e);
+    if (!rc && !sys->solver) rc = aug_sys0_solver(sys, rp->started ? rp->nfree0 : -1, o, rec, e);
+    const int32_t *out;
+    int64_t nout;
+    if (!rc) rc = aug_replay_out_dofs(rp, &out, &nout, e);
+    int flags = rp->nmdlt && rp->mdlt_step == u.step ? rp->mdlt_flags : 0;
+    if (!rc) rc = aug_solver_step(sys->solver, &u, aug_replay_all(rp) ? NULL : out, nout, flags, e);
+    if (!rc && !aug_solver_singular(sys->solver, o->order[0]) && (rp->mesh.have & AUG_HAVE_NODE))
+        rc = aug_replay_write_field(w, rp, u.step, aug_solver_field(sys->solver, o->order[0]), e);
+    aug_update_free(&u);
+    return rc;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    FILE *f;
+    aug_reader *r = fuzz_open(data, size, &f);
+    if (!r) return 0;
+    aug_err e;
+    aug_rec rec;
+    memset(&rec, 0, sizeof rec);
+    aug_replay rp;
+    aug_replay_init(&rp);
+    /* --output from the stream's length: the stream's own, surface, all or a set */
+    static const char *const outs[] = {NULL, "surface", "all", "boundary", "fixed", "nosuch"};
+    rp.output = outs[size % 6];
+    aug_sys0 sys;
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = AUG_M_COUNT;
+    for (int i = 0; i < AUG_M_COUNT; i++) o.order[i] = i;
+    o.maxit = 200;
+    o.spare = 64;
+    aug_writer *w = aug_writer_open(fuzz_devnull(), "fuzz", &e);
+    if (w && !aug_sys0_init(&sys, &e)) {
+        while (aug_read(r, &rec, &e) == 1) {
+            if (aug_replay_add(&rp, &rec, &e) || aug_sys0_add(&sys, &rec, &e)) break;
+            if (!memcmp(rec.type, "UPDT", 4) && step(&rp, &sys, &o, w, &rec, &e)) break;
+        }
+        aug_sys0_free(&sys);
+    }
+    aug_writer_free(w);
+    aug_replay_free(&rp);
+    fuzz_close(r, f, &rec);
+    return 0;
+}
