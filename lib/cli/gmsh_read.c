@@ -183,14 +183,14 @@ static int cmp_size(const void *a, const void *b)
 }
 
 /* the tag of an element of dimension dim and type other than etype: tags
-   from 1 up, skipping those of known[n], at most 2^20 lookups; 0 if none */
+   from 1 up, skipping those of known[n], at most 2^18 lookups; 0 if none */
 static size_t foreign_element(int etype, int dim, const size_t *known, size_t n, int *type)
 {
     size_t *k = malloc((n ? n : 1) * sizeof *k), j = 0;
     if (!k) return 0;
     memcpy(k, known, n * sizeof *k);
     qsort(k, n, sizeof *k, cmp_size);
-    for (size_t tag = 1, tries = 0; tries < (1u << 20); tag++) {
+    for (size_t tag = 1, tries = 0; tries < (1u << 18); tag++) {
         while (j < n && k[j] < tag) j++;
         if (j < n && k[j] == tag) continue;
         tries++;
@@ -229,8 +229,9 @@ static int check_orders(int etype, const size_t *et, size_t nelem, aug_err *e)
                            "(gmsh tag %zu, among %s elements)", type, name, dim, want, tag, want);
     }
     return aug_err_set(e, AUG_EDATA, -1, "",
-                       "%zu elements of a %s mix orders with %s: a %d-D mesh must be all %s", all - nelem,
-                       dim == 3 ? "volume" : "surface", want, dim, want);
+                       "%zu element%s of a %s %s of another order than %s: a %d-D mesh must be all %s",
+                       all - nelem, all - nelem > 1 ? "s" : "", dim == 3 ? "volume" : "surface",
+                       all - nelem > 1 ? "are" : "is", want, dim, want);
 }
 
 /* the element count of the $Elements headers against the elements gmsh holds

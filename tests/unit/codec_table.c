@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 #include "augcut.h"
+#include "aug_scene.h"
 #include "fem_mesh.h"
 #include "t.h"
 
@@ -299,6 +300,41 @@ static void test_set_order_refused(void)
     T_CHECK(aug_check_payload(&rec, &e) == AUG_EDATA, "a set with node 1 twice accepted");
 }
 
+/* an oUTs absorbed into a mesh that has an output set already (aug_replay's
+   --output, then an ancillary oUTs after it) replaces the set: the ASan build
+   reports a leak otherwise */
+static void test_outs_replaces_output_set(void)
+{
+    aug_mesh m, m2;
+    aug_err e;
+    aug_rec rec;
+    memset(&rec, 0, sizeof rec);
+    tm_box(&m, 1, 1, 1, 1, 1, 1, 100.0, 0.3);
+    int32_t nodes[2] = {0, 3};
+    T_CHECK(aug_mesh_set_output(&m, AUG_OUT_SET, "two", nodes, 2, &e) == 0, "%s", e.msg);
+    FILE *a = tmpfile();
+    aug_writer *w = aug_writer_open(a, "test", &e);
+    T_CHECK(aug_mesh_write(w, &m, &e) == 0 && aug_writer_close(w, &e) == 0, "write: %s", e.msg);
+    aug_writer_free(w);
+    rewind(a);
+    aug_reader *r = aug_reader_open(a, "test", &e);
+    aug_mesh_init(&m2);
+    int outs = 0;
+    while (r && aug_read(r, &rec, &e) == 1) {
+        T_CHECK(aug_mesh_absorb(&m2, &rec, &e) == 0, "%s: %s", rec.type, e.msg);
+        if (memcmp(rec.type, "oUTs", 4)) continue;
+        outs++;
+        T_CHECK(aug_mesh_absorb(&m2, &rec, &e) == 0 && m2.nout == 2 && m2.out_nodes[1] == 3,
+                "oUTs again: %s (%lld nodes)", e.msg, (long long)m2.nout);
+    }
+    T_CHECK(outs == 1, "%d oUTs records", outs);
+    aug_rec_free(&rec);
+    aug_reader_free(r);
+    fclose(a);
+    aug_mesh_free(&m);
+    aug_mesh_free(&m2);
+}
+
 int main(void)
 {
     aug_cholmod_start(&cm);
@@ -307,6 +343,7 @@ int main(void)
     T_RUN(test_non_finite_refused);
     T_RUN(test_field_writer_refuses_nan);
     T_RUN(test_set_order_refused);
+    T_RUN(test_outs_replaces_output_set);
     cholmod_finish(&cm);
     return t_failed_cases != 0;
 }
