@@ -144,4 +144,5 @@ def main():
     sys.stdout.buffer.write(build(recs))
 
 
-main()
+if __name__ == "__main__":
+    main()
