@@ -1,28 +1,55 @@
 #!/usr/bin/env python3
-"""Independent check of a cut stream (formats/stream.md 7.1, 7.2, 7.6, 7.7),
-written from the specification only.
+"""Independent check of a cut stream (formats/stream.md 7.1, 7.2, 7.6, 7.7;
+cut(1)), written from the specification only.
 
-usage: check_cut.py IN.aug OUT.aug [--k-every N]
+usage: check_cut.py IN.aug OUT.aug
 
-IN: an uncut stream (meshload, perhaps factor); OUT: IN through one or more cuts.
+IN: an uncut stream (meshload, perhaps factor); OUT: IN through one or more
+cuts, whose command lines (their pROv records) say what each step must do.
 - every record of IN but HEAD and TAIL is in OUT byte for byte, in order,
-  right after HEAD and the cut stages' pROv; then per step MDLT [BDLT] UPDT pATH
-  (ancillary sTAt/tIMe allowed), steps consecutive;
-- the mesh rebuilt from MDLT/BDLT keeps its volume (area), has no element of
-  measure <= 0, and every face is shared by at most two elements;
+  right after HEAD and the cut stages' pROv; then per step MDLT [BDLT] UPDT
+  pATH (ancillary sTAt/tIMe allowed), steps consecutive;
+- at every step, on the mesh rebuilt from MDLT/BDLT: every element positive,
+  the volume (area) unchanged, true conformity (a face in at most two elements
+  with opposite orientations; an open face on the outer boundary of IN's mesh
+  or one side of a cut whose other side is a coincident open face of nodes
+  that are copies of the same nodes: no hanging node);
+- the requested nodes were duplicated: a step makes new nodes (or only
+  changes constraints); planar cuts (--plane, random planes rebuilt from the
+  seed as GSL's mt19937 draws them): the step's parents are exactly the next
+  --per-step K cut nodes in advance order (nodes of the faces between
+  elements whose centroids lie on the two sides), each copy at its parent,
+  the star of each split into its classes along the cut faces with the -
+  side keeping the node and one copy per other class, only those nodes
+  re-wired, and the faces it opens exactly the cut faces at the duplicated
+  nodes (pATH = their edges); path cuts (--path): copies on a cut segment,
+  inserted nodes on the step's segments next to their parent, every pATH
+  segment a mesh edge, and at every node on the cut so far its star split
+  into classes along the cut edges with one node per class;
 - K_t and f_t accumulated from K_0 (KMAT of IN, or assembled here when IN has
-  none) and the UPDT records equal the cut system assembled here from scratch
-  (own linear elasticity: tet4, tri3 plane stress) at every N-th step and the
-  last, entry by entry within 1e-11 * max|K|. K_0 of IN is checked the same.
-Prints one line 'ok steps=S ...' or the first failure, exit 1."""
+  none) and the UPDT records (k = dim * new nodes) equal the cut system
+  assembled here (tet4, tri3 plane stress) on the step's mesh at every step,
+  entry by entry within 1e-12 * max|K|: the sum of the element terms of every
+  element, summed afresh at the first and the last step, in between with the
+  terms of every element whose nodes, material or constraints changed
+  replaced (cutsys.CutMesh.element_sum). K_0 of IN is checked the same.
+Prints one line 'ok steps=S ...' or the first failure ('FAIL step N: ...'),
+exit 1."""
+import math
+import os
+import random
 import struct
 import sys
 import zlib
 
-sys.path.insert(0, __import__("os").path.dirname(__file__))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import augstream  # noqa: E402
+import conform  # noqa: E402
+import cutsys  # noqa: E402
+import pathfile  # noqa: E402
 
 SIG = b"\x89AUG\r\n\x1a\n"
+REL = 1e-12
 
 
 def raw_records(data):
@@ -48,140 +75,483 @@ def fail(msg):
     sys.exit(1)
 
 
-def arr(fmt, p, pos, n):
-    size = struct.calcsize(fmt)
-    return list(struct.unpack_from("<%d%s" % (n, fmt), p, pos)), pos + n * size
+def stage_of(prov):
+    """the options of one cut command line (pROv: version line, argv)"""
+    args = prov.split("\n", 1)[1].split(" ")[1:]
+    valued = {"--plane", "--advance", "--polygon", "--per-step", "--seed", "--path", "--mode", "--snap-tol",
+              "--steps", "--pull", "--detached", "--constrain"}
+    o, i = {}, 0
+    while i < len(args):
+        a = args[i]
+        if "=" in a and a.startswith("--"):
+            k, v = a.split("=", 1)
+        elif a in valued:
+            k, v = a, args[i + 1]
+            i += 1
+        else:
+            k, v = a, ""
+        o[k] = v
+        i += 1
+    return o
 
 
-def stiffness(m, conn, mat):
-    """element stiffness (list of lists), dof order node*dim+c"""
-    dim = m["dim"]
-    _, _, E, nu, _, t = m["mats"][mat]
-    P = [m["x"][i] for i in conn]
-    if dim == 3:
-        a = [[P[i][k] - P[0][k] for k in range(3)] for i in (1, 2, 3)]
-        # J rows: edge vectors; gradients of barycentrics 1..3 = rows of J^-T
-        J = a
-        det = (J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0])
-               + J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]))
-        inv = [[(J[(j + 1) % 3][(i + 1) % 3] * J[(j + 2) % 3][(i + 2) % 3] - J[(j + 1) % 3][(i + 2) % 3] * J[(j + 2) % 3][(i + 1) % 3]) / det
-                for j in range(3)] for i in range(3)]  # inv[i][j] = (J^-1)[i][j]
-        g = [[inv[k][i] for k in range(3)] for i in range(3)]  # grad of lambda_{i+1}
-        g0 = [-(g[0][k] + g[1][k] + g[2][k]) for k in range(3)]
-        G = [g0] + g
-        vol = abs(det) / 6
-        lam = E * nu / ((1 + nu) * (1 - 2 * nu))
-        mu = E / (2 * (1 + nu))
-        nd = 12
-        K = [[0.0] * nd for _ in range(nd)]
-        for a_ in range(4):
-            for b in range(4):
-                for i in range(3):
-                    for j in range(3):
-                        v = lam * G[a_][i] * G[b][j] + mu * G[a_][j] * G[b][i]
-                        if i == j:
-                            v += mu * sum(G[a_][k] * G[b][k] for k in range(3))
-                        K[a_ * 3 + i][b * 3 + j] = vol * v
-        return K
-    x1, y1 = P[1][0] - P[0][0], P[1][1] - P[0][1]
-    x2, y2 = P[2][0] - P[0][0], P[2][1] - P[0][1]
-    det = x1 * y2 - x2 * y1
-    g1 = (y2 / det, -x2 / det)
-    g2 = (-y1 / det, x1 / det)
-    G = [(-(g1[0] + g2[0]), -(g1[1] + g2[1])), g1, g2]
-    area = abs(det) / 2
-    # plane stress: lambda* = E nu / (1 - nu^2), mu = E / (2 (1 + nu))
-    lam = E * nu / (1 - nu * nu)
-    mu = E / (2 * (1 + nu))
-    K = [[0.0] * 6 for _ in range(6)]
-    for a_ in range(3):
-        for b in range(3):
-            for i in range(2):
-                for j in range(2):
-                    v = lam * G[a_][i] * G[b][j] + mu * G[a_][j] * G[b][i]
-                    if i == j:
-                        v += mu * (G[a_][0] * G[b][0] + G[a_][1] * G[b][1])
-                    K[a_ * 2 + i][b * 2 + j] = area * t * v
-    return K
+def gsl_uniform(seed):
+    """gsl_rng_uniform of GSL's mt19937 seeded with gsl_rng_set(r, seed)"""
+    s = seed or 4357
+    mt = [s & 0xffffffff]
+    for i in range(1, 624):
+        mt.append((1812433253 * (mt[-1] ^ (mt[-1] >> 30)) + i) & 0xffffffff)
+    r = random.Random()
+    r.setstate((3, tuple(mt) + (624,), None))
+    return lambda: r.getrandbits(32) / 4294967296.0
 
 
-def cut_index(m, nn0, map0, nfree0, node, c):
-    dim = m["dim"]
-    if node < nn0:
-        return map0[node * dim + c]
-    return nfree0 + (node - nn0) * dim + c
+def random_plane(x, dim, seed):
+    """cut(1) --plane random: a normal uniform on the sphere (circle) through a
+    point of the middle half of the bounding box"""
+    u = gsl_uniform(seed)
+    lo = [min(p[k] for p in x) for k in range(dim)]
+    hi = [max(p[k] for p in x) for k in range(dim)]
+    while True:
+        n = [2 * u() - 1 if k < dim else 0.0 for k in range(3)]
+        s = n[0] * n[0] + n[1] * n[1] + n[2] * n[2]
+        if not (s > 1 or s < 1e-4):
+            break
+    d = 0.0
+    for k in range(dim):
+        n[k] /= math.sqrt(s)
+        d += n[k] * (lo[k] + (0.25 + 0.5 * u()) * (hi[k] - lo[k]))
+    return n[:dim], d
 
 
-def assemble(m, nn0, map0, nfree0):
-    """K_t (dict (i, j) -> v, i <= j) and f_t (list) from scratch (7.2)"""
-    dim, nv = m["dim"], m["nv"]
-    n = nfree0 + (len(m["x"]) - nn0) * dim
-    K, f = {}, [0.0] * n
-    fix, load = m["fix"], m["load"]
-    for dof, v in load.items():
-        g = cut_index(m, nn0, map0, nfree0, dof // dim, dof % dim)
-        if g >= 0 and dof not in fix:
-            f[g] += v
-    for e, conn in enumerate(m["conn"]):
-        Ke = stiffness(m, conn, m["mat"][e])
-        dofs = [conn[a] * dim + c for a in range(nv) for c in range(dim)]
-        gi = [cut_index(m, nn0, map0, nfree0, d // dim, d % dim) for d in dofs]
-        for b in range(nv * dim):
-            if dofs[b] in fix:
-                vb = fix[dofs[b]]
-                if vb != 0:
-                    for a in range(nv * dim):
-                        if gi[a] >= 0 and dofs[a] not in fix:
-                            f[gi[a]] -= Ke[a][b] * vb
+def seg_dist(a, b, p):
+    """distance of p to the segment ab"""
+    e = [b[k] - a[k] for k in range(len(p))]
+    ee = sum(c * c for c in e)
+    t = max(0.0, min(1.0, sum((p[k] - a[k]) * e[k] for k in range(len(p))) / ee)) if ee > 0 else 0.0
+    return math.dist(p, [a[k] + t * e[k] for k in range(len(p))])
+
+
+def dot(a, b):
+    s = 0.0
+    for k in range(len(a)):
+        s += a[k] * b[k]
+    return s
+
+
+def in_plane(n, v, scale):
+    """v without its normal component, normalised; None when it (nearly) vanishes"""
+    vn = dot(v, n)
+    out = [v[k] - vn * n[k] for k in range(len(n))]
+    s = math.sqrt(dot(out, out))
+    return [c / s for c in out] if s > 1e-9 * scale else None
+
+
+def polygon_nodes(n, poly, x, nodes):
+    """cut(1) --polygon: the nodes whose projection onto the plane lies inside
+    the projected polygon (even-odd rule; within 1e-9 of its size of an edge
+    counts as inside)"""
+    ax = min(range(3), key=lambda k: abs(n[k]))
+    u = [(1.0 if k == ax else 0.0) - n[ax] * n[k] for k in range(3)]
+    u = [c / math.sqrt(dot(u, u)) for c in u]
+    v = [n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]]
+    q = [(dot(poly[i:i + 3], u), dot(poly[i:i + 3], v)) for i in range(0, len(poly), 3)]
+    tol = 1e-9 * max(math.dist(a, q[0]) for a in q)
+
+    def inside(p):
+        c = False
+        for i in range(len(q)):
+            a, b = q[i], q[i - 1]
+            e = (b[0] - a[0], b[1] - a[1])
+            t = max(0.0, min(1.0, ((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / (e[0] ** 2 + e[1] ** 2)))
+            if math.dist(p, (a[0] + t * e[0], a[1] + t * e[1])) <= tol:
+                return True
+            if (a[1] > p[1]) != (b[1] > p[1]) and p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]:
+                c = not c
+        return c
+    return [i for i in nodes if inside((dot(x[i], u), dot(x[i], v)))]
+
+
+class Plane:
+    """a planar cut stage planned on the mesh at its start (cut(1)): sides by
+    centroid, cut nodes in advance order, K per step"""
+
+    def __init__(self, cm, o):
+        dim, nv, x = cm.dim, cm.nv, cm.x
+        if o["--plane"] == "random":
+            n, d = random_plane(x, dim, int(o.get("--seed", "1")))
+        else:
+            v = [float(t) for t in o["--plane"].split(",")]
+            n, d = v[:dim], v[3]
+        ln = math.sqrt(dot(n, n))
+        self.n, self.d = [c / ln for c in n], d / ln
+        self.ne = len(cm.conn)
+        self.side, self.ambiguous = [], 0
+        for c in cm.conn:
+            cen = [0.0] * dim
+            for a in range(nv):
+                for k in range(dim):
+                    cen[k] += x[c[a]][k] / nv
+            s = dot(cen, self.n)
+            self.side.append(s > self.d)
+            self.ambiguous += abs(s - self.d) <= 1e-12
+        fm = conform.face_map(cm.conn)
+        mark = set()
+        for key, uses in fm.items():
+            if len(uses) == 2 and self.side[uses[0][0]] != self.side[uses[1][0]]:
+                mark.update(key)
+        lo = [min(p[k] for p in x) for k in range(dim)]
+        hi = [max(p[k] for p in x) for k in range(dim)]
+        scale = math.sqrt(sum((hi[k] - lo[k]) ** 2 for k in range(dim))) or 1.0
+        cut = sorted(mark)
+        adv = None
+        if "--advance" in o:
+            adv = in_plane(self.n, [float(t) for t in o["--advance"].split(",")][:dim], 1.0)
+        else:
+            fixed = sorted({dof // dim for dof in cm.fix})
+            cc = [sum(x[i][k] for i in cut) / len(cut) for k in range(dim)]
+            if fixed:
+                cf = [sum(x[i][k] for i in fixed) / len(fixed) for k in range(dim)]
+                adv = in_plane(self.n, [cc[k] - cf[k] for k in range(dim)], scale)
+            if adv is None:
+                best = -1
+                for ax in range(dim):
+                    a = in_plane(self.n, [1.0 if k == ax else 0.0 for k in range(dim)], 1.0)
+                    if a is None:
+                        continue
+                    s = [dot(x[i], a) for i in cut]
+                    if max(s) - min(s) > best * (1 + 1e-12):
+                        best, adv = max(s) - min(s), a
+        q = 1e-9 * scale
+        self.order = sorted(cut, key=lambda i: (int(math.floor(dot(x[i], adv) / q + 0.5)), i))
+        if "--polygon" in o:
+            self.order = polygon_nodes(self.n, [float(t) for t in o["--polygon"].split(",")], x, self.order)
+        self.per = int(o["--per-step"]) if "--per-step" in o else (len(self.order) + 63) // 64
+        self.next = 0
+        self.cutset = mark
+
+    def rank(self, e):
+        return (self.side[e] if e < self.ne else 1, e)
+
+    def cut_face(self, e1, e2):
+        return e1 < self.ne and e2 < self.ne and self.side[e1] != self.side[e2]
+
+
+class Checker:
+    def __init__(self, m):
+        self.cm = cutsys.CutMesh(m)
+        cm = self.cm
+        self.dim, self.nv = cm.dim, cm.nv
+        lo = [min(p[k] for p in cm.x) for k in range(self.dim)]
+        hi = [max(p[k] for p in cm.x) for k in range(self.dim)]
+        self.tol = 1e-10 * max(hi[k] - lo[k] for k in range(self.dim))
+        self.outer = conform.boundary_index(cm.x, cm.conn, self.tol)
+        self.h = max(math.dist(cm.x[c[i]], cm.x[c[j]]) for c in cm.conn for i in range(self.nv) for j in range(i))
+        self.origin = list(range(len(cm.x)))
+        self.vol0 = self.volume()
+        self.pairs, self.inserted = {}, {}
+        self.fm = conform.face_map(cm.conn)
+        self.segs = []  # cut segments of the path stages so far
+        self.cutidx = None
+        self.step = 0
+
+    def volume(self):
+        cm = self.cm
+        mesh = {"x": cm.x, "conn": cm.conn, "nv": self.nv}
+        vols = [augstream.measure(mesh, e) for e in range(len(cm.conn))]
+        e = min(range(len(vols)), key=vols.__getitem__)
+        if not vols[e] > 0:
+            self.fail("element %d has measure %g" % (e, vols[e]))
+        return sum(vols)
+
+    def fail(self, msg):
+        fail("step %d: %s" % (self.step, msg))
+
+    def star_classes(self, P, cut, node_elems, at, elems=None):
+        """the elements with a corner at point P (or those of elems), in classes
+        connected through coincident faces at P that cut(key, e1, e2) does not
+        report: [(class elements, node of the class at P)]; fails where one
+        class has two nodes at P or two classes one node"""
+        x, conn = self.cm.x, self.cm.conn
+        if elems is None:
+            elems = sorted({e for v in at[P] for e in node_elems.get(v, ())})
+        up = {e: e for e in elems}
+
+        def root(e):
+            while up[e] != e:
+                up[e] = up[up[e]]
+                e = up[e]
+            return e
+        byface = {}
+        for e in elems:
+            for f in conform.faces_of(conn[e]):
+                if any(x[v] == P for v in f):
+                    byface.setdefault(conform.geo_key(x, f), []).append(e)
+        for key, es in byface.items():
+            for i in range(1, len(es)):
+                if not cut(key, es[0], es[i]):
+                    a, b = root(es[0]), root(es[i])
+                    up[max(a, b)] = min(a, b)
+        classes = {}
+        for e in elems:
+            classes.setdefault(root(e), []).append(e)
+        out, used = [], {}
+        for r, es in sorted(classes.items()):
+            nodes = {v for e in es for v in conn[e] if x[v] == P}
+            if len(nodes) != 1:
+                self.fail("at %s the elements %s hang together across uncut faces but hold the nodes %s"
+                          % (P, es[:6], sorted(nodes)))
+            v = nodes.pop()
+            if v in used:
+                self.fail("node %d at %s is shared by elements %d and %d, which the cut separates"
+                          % (v, P, used[v], es[0]))
+            used[v] = es[0]
+            out.append((es, v))
+        return out
+
+    def adjacency(self):
+        x = self.cm.x
+        node_elems, at = {}, {}
+        for e, c in enumerate(self.cm.conn):
+            for v in c:
+                node_elems.setdefault(v, []).append(e)
+        for v, p in enumerate(x):
+            at.setdefault(p, []).append(v)
+        return node_elems, at
+
+    def plane_step(self, pl, d, conn_before, fm_before, pairs_before, seg):
+        """the step duplicated the next K cut nodes of the plane, each as cut(1) says"""
+        x, conn = self.cm.x, self.cm.conn
+        nn0 = len(x) - len(d["parent"])
+        parents = sorted(set(d["parent"]))
+        for q, p in enumerate(d["parent"]):
+            if p >= nn0 or x[nn0 + q] != x[p]:
+                self.fail("new node %d is no copy of a node of the mesh before the step (parent %d)" % (nn0 + q, p))
+            if p not in pl.cutset:
+                self.fail("node %d is duplicated but lies on no face between the two sides of the plane" % p)
+        if d["cadd"]:
+            self.fail("a planar cut adds %d elements" % len(d["cadd"]))
+        if len(parents) != min(pl.per, len(pl.order) - pl.next):
+            self.fail("%d nodes duplicated, --per-step asks for %d" % (len(parents), pl.per))
+        want = sorted(pl.order[pl.next:pl.next + pl.per])
+        if parents != want:
+            self.fail("duplicated nodes %s, the next cut nodes in advance order are %s%s" % (
+                parents, want, " (%d element centroids within 1e-12 of the plane)" % pl.ambiguous if pl.ambiguous else ""))
+        pl.next += len(parents)
+        # the star of each parent: classes along the cut faces, the - side keeps the node
+        node_elems, at = self.adjacency()
+
+        def cut(key, e1, e2):
+            return pl.cut_face(e1, e2) or key in pairs_before
+        copies = {}
+        for q, p in enumerate(d["parent"]):
+            copies.setdefault(p, []).append(nn0 + q)
+        for p in parents:
+            star = [e for e in range(len(conn_before)) if p in conn_before[e]]
+            cl = self.star_classes(x[p], cut, node_elems, at, star)
+            keep = min(cl, key=lambda c: min(pl.rank(e) for e in c[0]))
+            if keep[1] != p:
+                self.fail("node %d: the class of element %d (the - side) does not keep it" % (p, keep[0][0]))
+            if sorted(v for _, v in cl if v != p) != copies[p]:
+                self.fail("node %d: %d classes around it, copies %s" % (p, len(cl), copies[p]))
+        cmap = {nn0 + q: p for q, p in enumerate(d["parent"])}
+        for e in d["elem"]:
+            if tuple(cmap.get(v, v) for v in conn[e]) != conn_before[e]:
+                self.fail("element %d re-wired from %s to %s, not to copies of its nodes" % (e, conn_before[e], conn[e]))
+        # the faces the step opens: the cut faces at the duplicated nodes, still closed before
+        new_pairs = [g for g in self.pairs if g not in pairs_before]
+        opened = set()
+        for key, uses in fm_before.items():
+            if len(uses) == 2 and pl.cut_face(uses[0][0], uses[1][0]) and any(v in copies for v in key):
+                opened.add(conform.geo_key(x, key))
+        if set(new_pairs) != opened:
+            extra = sorted(set(new_pairs) - opened)[:1] or sorted(opened - set(new_pairs))[:1]
+            self.fail("opened %d faces, the cut faces at the duplicated nodes are %d (e.g. %s)"
+                      % (len(new_pairs), len(opened), extra))
+        edges = set()
+        for g in opened:
+            for i in range(len(g)):
+                for j in range(i + 1, len(g)):
+                    edges.add(tuple(sorted((g[i], g[j]))))
+        got = [tuple(sorted(s)) for s in seg]
+        if len(set(got)) != len(got) or set(got) != edges:
+            self.fail("pATH has %d segments (%d distinct), the opened faces %d edges"
+                      % (len(got), len(set(got)), len(edges)))
+
+    def path_part(self, path, s0, s1, seg):
+        """the step's pATH against its part of the path (arc length s0..s1):
+        every end point within one longest edge of it, and segments wherever the
+        part runs more than three longest edges deep inside the mesh"""
+        h = self.h
+        near = path.part(s0 - h, s1 + h)
+        for q in [p for sg in seg for p in sg]:
+            if not near or min(math.dist(q, p) for p in near) > 1.05 * h + self.tol:
+                self.fail("pATH point %s is farther than %g from the path's part %.4g..%.4g" % (q, h, s0, s1))
+        if seg:
+            return
+        bd = [b for b in self.outer.polys]
+        pts = path.part(s0, s1)[::max(1, int(h / 4 / (path.total / max(len(path.pts), 1)) + 0.5))]
+
+        def deep(p):
+            c = False
+            for a, b in bd:
+                if (a[1] > p[1]) != (b[1] > p[1]) and p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]:
+                    c = not c
+            return c and all(seg_dist(a, b, p) > h for a, b in bd)
+        run = sum(math.dist(p, q) for p, q in zip(pts, pts[1:]) if math.dist(p, q) < h / 2 and deep(p) and deep(q))
+        if run > 3 * h:
+            self.fail("the path's part %.4g..%.4g runs %.3g deep inside the mesh, but pATH is empty" % (s0, s1, run))
+
+    def path_step(self, d, pairs_before, seg, fm):
+        """copies on the cut, inserted nodes on its segments, every node on the
+        cut separated into one node per class of its star"""
+        x = self.cm.x
+        nn0 = len(x) - len(d["parent"])
+        cutidx = self.cutidx
+        stepidx = conform.FaceIndex([list(s) for s in seg], self.tol)
+        keys = {conform.geo_key(x, f) for f in fm}
+        for s in seg:
+            if tuple(sorted(s)) not in keys:
+                self.fail("pATH segment %s is no edge of the mesh" % (s,))
+        node_elems, at = self.adjacency()
+        for q, p in enumerate(d["parent"]):
+            v = nn0 + q
+            if x[v] == x[p]:
+                if cutidx.find([x[v]]) < 0:
+                    self.fail("node %d is duplicated (copy %d) but lies on no cut segment" % (p, v))
                 continue
-            if gi[b] < 0:
-                continue
-            for a in range(nv * dim):
-                if gi[a] < 0 or dofs[a] in fix or gi[a] > gi[b]:
-                    continue
-                K[(gi[a], gi[b])] = K.get((gi[a], gi[b]), 0.0) + Ke[a][b]
-    for dof, v in fix.items():
-        g = cut_index(m, nn0, map0, nfree0, dof // dim, dof % dim)
-        if g >= 0:
-            K[(g, g)] = 1.0
-            f[g] = v
-    return K, f
+            if stepidx.find([x[v]]) < 0:
+                self.fail("inserted node %d at %s lies on no pATH segment of the step" % (v, x[v]))
+            near = {self.origin[w] for u in at[x[v]] for e in node_elems.get(u, ()) for w in self.cm.conn[e]}
+            if self.origin[p] not in near:
+                self.fail("inserted node %d: its parent %d is no corner next to it" % (v, p))
 
+        for g in self.pairs:
+            if cutidx.find(list(g)) < 0:
+                self.fail("the mesh is open at %s, which lies on no cut segment" % (g,))
 
-def compare(Ka, fa, Kb, fb, what):
-    mx = max(abs(v) for v in Ka.values())
-    for key in set(Ka) | set(Kb):
-        a, b = Ka.get(key, 0.0), Kb.get(key, 0.0)
-        if abs(a - b) > 1e-11 * mx:
-            fail("%s: K%s is %.17g, want %.17g (max|K| %g)" % (what, key, b, a, mx))
-    if len(fa) != len(fb):
-        fail("%s: f has %d entries, want %d" % (what, len(fb), len(fa)))
-    fm = max([abs(v) for v in fa] + [1.0])
-    for i in range(len(fa)):
-        if abs(fa[i] - fb[i]) > 1e-11 * (fm + mx):
-            fail("%s: f[%d] is %.17g, want %.17g" % (what, i, fb[i], fa[i]))
+        def cut(key, e1, e2):
+            return key in pairs_before or cutidx.find(list(key)) >= 0
+        for P in sorted(cutidx.cover(list(at))):
+            cl = self.star_classes(P, cut, node_elems, at)
+            if len(cl) != len(at[P]):
+                self.fail("at %s %d nodes, %d of them in no element" % (P, len(at[P]), len(at[P]) - len(cl)))
 
+    def run_step(self, rec, stage):
+        cm, dim, nv = self.cm, self.dim, self.nv
+        try:
+            d = cutsys.mdlt(rec["MDLT"], dim, nv)
+        except (cutsys.Bad, struct.error) as e:
+            self.fail("MDLT: %s" % e)
+        nn_before = len(cm.x)
+        conn_before = list(cm.conn)
+        fm_before = self.fm
+        pairs_before = self.pairs
+        try:
+            cm.apply_mdlt(d)
+            if "BDLT" in rec:
+                cm.apply_bdlt(cutsys.bdlt(rec["BDLT"]))
+        except (cutsys.Bad, struct.error) as e:
+            self.fail(str(e))
+        # a copy's origin is its parent's; nodes inserted at one point (on the two sides of a cut) share one
+        for q, p in enumerate(d["parent"]):
+            v = nn_before + q
+            self.origin.append(self.origin[p] if cm.x[v] == cm.x[p] else self.inserted.setdefault(cm.x[v], v))
+        p = rec["pATH"]
+        pd, _, nseg = struct.unpack_from("<iiq", p, 0)
+        if pd != dim or len(p) != 16 + nseg * 2 * dim * 8:
+            self.fail("pATH layout")
+        v, _ = cutsys.arr("d", p, 16, nseg * 2 * dim)
+        seg = [(tuple(v[(2 * i) * dim:(2 * i + 1) * dim]), tuple(v[(2 * i + 1) * dim:(2 * i + 2) * dim]))
+               for i in range(nseg)]
+        planar = "--plane" in stage[0]
+        if not planar:
+            self.segs += seg
+            self.cutidx = conform.FaceIndex([list(s) for s in self.segs], self.tol)
+        # the mesh: positive, the volume kept, conformal
+        vol = self.volume()
+        if abs(vol - self.vol0) > REL * abs(self.vol0):
+            self.fail("volume %.17g, was %.17g" % (vol, self.vol0))
+        fm = self.fm = conform.face_map(cm.conn)
+        err = conform.shared_errors(fm)
+        if err:
+            self.fail(err)
+        on_cut = None if planar else lambda pts: self.cutidx.find(pts) >= 0
+        self.pairs, err = conform.open_faces(cm.x, fm, self.outer, self.origin, on_cut)
+        if err:
+            self.fail(err)
+        if planar and set(pairs_before) - set(self.pairs):
+            self.fail("a face opened before is closed again: %s" % (sorted(set(pairs_before) - set(self.pairs))[0],))
+        # the requested nodes were duplicated
+        if planar:
+            if not d["parent"]:
+                self.fail("the step duplicates nothing: no new node")
+            self.plane_step(stage[1], d, conn_before, fm_before, pairs_before, seg)
+        else:
+            path, k, n = stage[1], stage[2], int(stage[0]["--steps"])
+            self.path_part(path, path.total * (k - 1) / n, path.total * k / n, seg)
+            self.path_step(d, pairs_before, seg, fm)
+        return d
 
-def faces_ok(m):
-    count = {}
-    nv = m["nv"]
-    for c in m["conn"]:
-        for f in range(nv):
-            key = tuple(sorted(c[:f] + c[f + 1:]))
-            count[key] = count.get(key, 0) + 1
-    return max(count.values()) <= 2
+    def run(self, own, last_in, stages, Kacc, facc):
+        i, nsteps, maxm, flags_all = 0, 0, 0, 0
+        step = last_in
+        si, left = -1, 0
+        while i < len(own):
+            step += 1
+            self.step = step
+            seq = []
+            while i < len(own) and own[i][1] == step:
+                seq.append(own[i])
+                i += 1
+            crit = [r[0] for r in seq if r[0] not in ("sTAt", "tIMe")]
+            if crit not in (["MDLT", "UPDT", "pATH"], ["MDLT", "BDLT", "UPDT", "pATH"]):
+                self.fail("records %s" % crit)
+            while left == 0:
+                si += 1
+                if si >= len(stages):
+                    self.fail("more steps than the cut stages asked for")
+                o = stages[si]
+                left = int(o.get("--steps", "0"))
+                if "--plane" in o:
+                    stage = [o, Plane(self.cm, o)]
+                else:
+                    try:
+                        stage = [o, pathfile.Path(o["--path"]), 0]
+                    except (OSError, ValueError) as e:
+                        self.fail("the path file of %s: %s" % (o.get("--path"), e))
+            if len(stage) == 3:
+                stage[2] += 1
+            left -= 1
+            rec = {r[0]: r[2] for r in seq}
+            d = self.run_step(rec, stage)
+            flags_all |= d["flags"]
+            try:
+                u = cutsys.updt(rec["UPDT"])
+            except (cutsys.Bad, struct.error) as e:
+                self.fail("UPDT: %s" % e)
+            if u[1] != self.dim * len(d["parent"]):
+                self.fail("k = %d for %d new nodes" % (u[1], len(d["parent"])))
+            err = cutsys.apply_updt(Kacc, facc, u)
+            if err:
+                self.fail(err)
+            maxm = max(maxm, u[0])
+            err = cutsys.check(self.cm, Kacc, facc, REL, full=nsteps == 0 or i >= len(own))
+            if err:
+                self.fail("the accumulated updates against an independent assembly: " + err)
+            nsteps += 1
+        if left or si != len(stages) - 1:
+            fail("the cut stages asked for %d more steps" % (left + sum(int(o.get("--steps", "0")) for o in stages[si + 1:])))
+        return nsteps, maxm, flags_all
 
 
 def main():
     args = sys.argv[1:]
-    every = 1
-    if "--k-every" in args:
-        i = args.index("--k-every")
-        every = int(args[i + 1])
-        del args[i:i + 2]
+    if len(args) != 2:
+        raise SystemExit(__doc__)
     rin = raw_records(open(args[0], "rb").read())
     rout = raw_records(open(args[1], "rb").read())
-    # HEAD, then one pROv per cut stage (cut | cut ...), then the input's records
+    # HEAD, then one pROv per cut stage (cut | cut ...: the last one first), then the input's records
     passed = rin[1:-1]
     j = 1
     while j < len(rout) and rout[j][0] == "pROv" and "cut" in rout[j][2].decode() and \
@@ -189,6 +559,7 @@ def main():
         j += 1
     if rout[0][0] != "HEAD" or j == 1:
         fail("output does not start with cut's HEAD and pROv")
+    stages = [stage_of(r[2].decode()) for r in reversed(rout[1:j])]
     for i, r in enumerate(passed):
         o = rout[j + i] if j + i < len(rout) else ("", 0, b"", b"")
         if (o[0], o[3]) != (r[0], r[3]):
@@ -197,139 +568,24 @@ def main():
     if own[-1][0] != "TAIL":
         fail("no TAIL")
     own = own[:-1]
-    recs = [(t, 0, s, p) for t, s, p, b in rin]
-    m = augstream.mesh(recs)
-    m.setdefault("fix", {})
-    m.setdefault("load", {})
-    dim = m["dim"]
-    nn0 = len(m["x"])
-    map0, k = [], 0
-    for dof in range(nn0 * dim):
-        if dof in m["fix"]:
-            map0.append(-1)
-        else:
-            map0.append(k)
-            k += 1
-    nfree0 = k
-    Kacc, facc = assemble(m, nn0, map0, nfree0)
+    m = augstream.mesh([(t, 0, s, p) for t, s, p, b in rin])
+    ck = Checker(m)
+    Kacc, facc = ck.cm.assemble()
     last_in = max([s for t, s, p, b in rin if s >= 0] + [0])
     for t, s, p, b in rin:
         if t == "KMAT":
-            which, stype, n, nnz = struct.unpack_from("<iiqq", p, 0)
-            if which != 0:
-                continue
-            cp, pos = arr("q", p, 24, n + 1)
-            ri, pos = arr("i", p, pos, nnz)
-            va, pos = arr("d", p, pos, nnz)
-            K0 = {}
-            for j in range(n):
-                for q in range(cp[j], cp[j + 1]):
-                    a, c = min(ri[q], j), max(ri[q], j)
-                    K0[(a, c)] = K0.get((a, c), 0.0) + va[q]
-            Kacc = K0
+            which, n, K0 = cutsys.kmat(p)
+            if which == 0:
+                Kacc = K0
         if t == "FVEC":
-            kind, _, n = struct.unpack_from("<iiq", p, 0)
-            v, _ = arr("d", p, 16, n)
-            facc = v
+            facc = cutsys.fvec(p)[1]
         if t in ("MDLT", "BDLT", "UPDT"):
             fail("the input has cut steps already; this checker starts from an uncut mesh")
-    Kscr, fscr = assemble(m, nn0, map0, nfree0)
-    compare(Kscr, fscr, Kacc, facc, "K_0 of the input against an independent assembly")
-    vol0 = sum(augstream.measure(m, e) for e in range(len(m["conn"])))
-    step = last_in
-    i = 0
-    nsteps, maxm, flags_all = 0, 0, 0
-    while i < len(own):
-        step += 1
-        seq = []
-        while i < len(own) and own[i][1] == step:
-            seq.append(own[i])
-            i += 1
-        crit = [r[0] for r in seq if r[0] not in ("sTAt", "tIMe")]
-        if crit not in (["MDLT", "UPDT", "pATH"], ["MDLT", "BDLT", "UPDT", "pATH"]):
-            fail("step %d: records %s" % (step, crit))
-        rec = {r[0]: r[2] for r in seq}
-        # MDLT
-        p = rec["MDLT"]
-        nv = m["nv"]
-        nnew, = struct.unpack_from("<q", p, 0)
-        par, pos = arr("i", p, 8, nnew)
-        x, pos = arr("d", p, pos, nnew * dim)
-        nmod, = struct.unpack_from("<q", p, pos)
-        el, pos = arr("i", p, pos + 8, nmod)
-        cn, pos = arr("i", p, pos, nmod * nv)
-        nadd, = struct.unpack_from("<q", p, pos)
-        ca, pos = arr("i", p, pos + 8, nadd * nv)
-        ma, pos = arr("i", p, pos, nadd)
-        fl, _ = struct.unpack_from("<ii", p, pos)
-        flags_all |= fl
-        nn_before = len(m["x"])
-        for q in range(nnew):
-            m["x"].append(tuple(x[q * dim:(q + 1) * dim]))
-            for c in range(dim):
-                d = par[q] * dim + c
-                if d in m["fix"]:
-                    m["fix"][(nn_before + q) * dim + c] = m["fix"][d]
-        for q in range(nmod):
-            m["conn"][el[q]] = tuple(cn[q * nv:(q + 1) * nv])
-        for q in range(nadd):
-            m["conn"].append(tuple(ca[q * nv:(q + 1) * nv]))
-            m["mat"].append(ma[q])
-        if "BDLT" in rec:
-            p = rec["BDLT"]
-            nf, = struct.unpack_from("<q", p, 0)
-            dof, pos = arr("i", p, 8, nf)
-            val, pos = arr("d", p, pos, nf)
-            nl, = struct.unpack_from("<q", p, pos)
-            ldof, pos = arr("i", p, pos + 8, nl)
-            lval, pos = arr("d", p, pos, nl)
-            m["fix"].update(zip(dof, val))
-            m["load"].update(zip(ldof, lval))
-        # UPDT
-        p = rec["UPDT"]
-        mm, kk = struct.unpack_from("<ii", p, 0)
-        H, pos = arr("i", p, 8, mm)
-        s = mm + kk
-        E, pos = arr("d", p, pos, s * s)
-        df, pos = arr("d", p, pos, s)
-        if pos != len(p):
-            fail("step %d: UPDT size" % step)
-        if kk != dim * nnew:
-            fail("step %d: k = %d for %d new nodes" % (step, kk, nnew))
-        n_prev = len(facc)
-        if any(H[q] >= n_prev or (q and H[q] <= H[q - 1]) for q in range(mm)):
-            fail("step %d: H not increasing below %d" % (step, n_prev))
-        g = H + list(range(n_prev, n_prev + kk))
-        facc = facc + [0.0] * kk
-        for q in range(n_prev, n_prev + kk):
-            Kacc[(q, q)] = 1.0
-        for b in range(s):
-            facc[g[b]] += df[b]
-            for a in range(s):
-                if E[a + b * s] != E[b + a * s]:
-                    fail("step %d: E not symmetric" % step)
-                if g[a] <= g[b]:
-                    key = (g[a], g[b])
-                    Kacc[key] = Kacc.get(key, 0.0) - E[a + b * s] - (1.0 if a == b and a >= mm else 0.0)
-        maxm = max(maxm, mm)
-        # pATH
-        p = rec["pATH"]
-        pd, _, nseg = struct.unpack_from("<iiq", p, 0)
-        if pd != dim or len(p) != 16 + nseg * 2 * dim * 8:
-            fail("step %d: pATH layout" % step)
-        nsteps += 1
-        if nsteps % every == 0 or i >= len(own):
-            Kscr, fscr = assemble(m, nn0, map0, nfree0)
-            compare(Kscr, fscr, Kacc, facc, "step %d" % step)
-    vol = sum(augstream.measure(m, e) for e in range(len(m["conn"])))
-    if abs(vol - vol0) > 1e-12 * abs(vol0):
-        fail("volume %.17g, was %.17g" % (vol, vol0))
-    mn = min(augstream.measure(m, e) for e in range(len(m["conn"])))
-    if not mn > 0:
-        fail("an element of measure %g" % mn)
-    if not faces_ok(m):
-        fail("a face shared by three or more elements")
-    print("ok steps=%d nodes=%d elements=%d max_m=%d flags=%d" % (nsteps, len(m["x"]), len(m["conn"]), maxm, flags_all))
+    err = cutsys.check(ck.cm, Kacc, facc, REL)
+    if err:
+        fail("K_0 of the input against an independent assembly: " + err)
+    nsteps, maxm, flags_all = ck.run(own, last_in, stages, Kacc, facc)
+    print("ok steps=%d nodes=%d elements=%d max_m=%d flags=%d" % (nsteps, len(ck.cm.x), len(ck.cm.conn), maxm, flags_all))
 
 
 main()

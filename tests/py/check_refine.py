@@ -1,15 +1,20 @@
 """check_refine.py IN OUT [--max-aspect A]
 Checks refine's output OUT against its input IN, both read independently of the
-C library (augstream.py): every record that is not per-step is passed through
-unchanged and in order; per step, MDLT/BDLT/UPDT are rewritten, everything else
-is kept in order, and one qUAl and one tIMe with tag "refine" follow. The folded
-MDLTs, applied to the mesh, give a conformal mesh (each edge or face in at most
-two elements, with opposite orientations), every element positive, the total
-area (volume) unchanged; in 2-D every open edge lies on the outer boundary of the
-original mesh or on a pATH segment, every pATH segment is a union of mesh edges
-on both sides, and no triangle exceeds the aspect bound except in a corner too
-sharp for any triangle. UPDT k = dim * new nodes. Prints a summary; exit 1 on
-the first failure."""
+C library (augstream.py, cutsys.py, conform.py): every record that is not
+per-step is passed through unchanged and in order; per step, MDLT/BDLT/UPDT are
+rewritten, everything else is kept in order, and one qUAl and one tIMe with tag
+"refine" follow. At every step, the folded MDLTs and BDLTs applied to the mesh
+give a conformal mesh (each edge or face in at most two elements, with opposite
+orientations: tets too), every element positive, the total area (volume)
+unchanged, and every open edge or face on the outer boundary of the original
+mesh, or one side of a cut, or inside an open face of the cut's own mesh of
+that step (IN's MDLTs replayed): no hanging node; UPDT k = dim * new nodes, and
+K_t and f_t accumulated from K_0 (KMAT, checked against an assembly, or
+assembled) and the UPDTs equal the system assembled from scratch on the refined
+mesh to 1e-12 * max|K|. In 2-D at the end: every open edge lies on the outer
+boundary or on a pATH segment, every pATH segment is a union of mesh edges on
+both sides, and no triangle exceeds the aspect bound except in a corner too
+sharp for any triangle. Prints a summary; exit 1 on the first failure."""
 import math
 import os
 import struct
@@ -17,6 +22,8 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import augstream  # noqa: E402
+import conform  # noqa: E402
+import cutsys  # noqa: E402
 
 
 def fail(msg):
@@ -90,57 +97,84 @@ def main():
         for r in extra:
             if r[0] == "qUAl":
                 qual[s] = kv(r[3])[1]
-    # 3. the refined mesh
+    # 3. the refined mesh of every step, against the cut's own mesh of that step
     m = augstream.mesh(rout)
     dim, nv = m["dim"], m["nv"]
-    x, conn = list(m["x"]), list(m["conn"])
+    fine, coarse = cutsys.CutMesh(m), cutsys.CutMesh(augstream.mesh(rin))
+    x, conn = fine.x, fine.conn
     area0 = sum(augstream.measure({"x": x, "conn": conn, "nv": nv}, e) for e in range(len(conn)))
     lo = [min(p[k] for p in x) for k in range(dim)]
     hi = [max(p[k] for p in x) for k in range(dim)]
+    tol = 1e-10 * max(hi[k] - lo[k] for k in range(dim))
+    outer = conform.boundary_index(x, conn, tol)
+    origin, inserted = list(range(len(x))), {}
+    Kacc, facc = fine.assemble()
+    K0 = [k[2] for k in (cutsys.kmat(p) for typ, fl, s, p in rout if typ == "KMAT") if k[0] == 0]
+    f0 = [cutsys.fvec(p)[1] for typ, fl, s, p in rout if typ == "FVEC"]
+    if K0:
+        Kacc, facc = K0[0], f0[0]
+        err = cutsys.check(fine, Kacc, facc, 1e-12)
+        if err:
+            fail("K_0 (KMAT) against an independent assembly: " + err)
     segs = []
-    for typ, fl, s, p in rout:
-        if typ == "pATH":
-            d, _, n = struct.unpack_from("<iiq", p, 0)
-            v, _ = augstream.arr("d", p, 16, n * 2 * d)
+    fm = conform.face_map(conn)
+    vols = [augstream.measure({"x": x, "conn": conn, "nv": nv}, e) for e in range(len(conn))]
+    for s in steps:
+        rec = {typ: p for typ, fl, st, p in rout if st == s}
+        crec = {typ: p for typ, fl, st, p in rin if st == s}
+        if "pATH" in rec:
+            d, _, n = struct.unpack_from("<iiq", rec["pATH"], 0)
+            v, _ = augstream.arr("d", rec["pATH"], 16, n * 2 * d)
             if d == 2:
                 segs += [tuple(v[4 * i:4 * i + 4]) for i in range(n)]
-        elif typ == "MDLT":
-            parent, xn, elem, c, cadd, madd = mdlt(p, dim, nv)
+        if "MDLT" not in rec:
+            continue
+        try:
+            cd = cutsys.mdlt(crec["MDLT"], dim, nv)
+            coarse.apply_mdlt(cd)
+            if "BDLT" in crec:
+                coarse.apply_bdlt(cutsys.bdlt(crec["BDLT"]))
+            d = cutsys.mdlt(rec["MDLT"], dim, nv)
             nn = len(x)
-            for i, par in enumerate(parent):
-                if not (0 <= par < nn + i):
-                    fail("step %d: parent %d of new node %d" % (s, par, i))
-            x += [tuple(xn[i * dim:(i + 1) * dim]) for i in range(len(parent))]
-            for k, e in enumerate(elem):
-                conn[e] = tuple(c[k * nv:(k + 1) * nv])
-            conn += [tuple(cadd[k * nv:(k + 1) * nv]) for k in range(len(madd))]
-            up = [r for r in rout if r[0] == "UPDT" and r[2] == s]
-            if up:
-                mm, kk = struct.unpack_from("<ii", up[0][3], 0)
-                if kk != dim * len(parent):
-                    fail("step %d: UPDT k = %d for %d new nodes" % (s, kk, len(parent)))
-    mesh = {"x": x, "conn": conn, "nv": nv}
-    vols = [augstream.measure(mesh, e) for e in range(len(conn))]
-    if min(vols) <= 0:
-        fail("element %d has measure %g" % (vols.index(min(vols)), min(vols)))
-    if abs(sum(vols) - area0) > 1e-10 * area0:
-        fail("total measure %.17g, was %.17g" % (sum(vols), area0))
-    faces = {}
-    for e, c in enumerate(conn):
-        fs = [(c[i], c[(i + 1) % 3]) for i in range(3)] if nv == 3 else \
-             [(c[1], c[2], c[3]), (c[0], c[3], c[2]), (c[0], c[1], c[3]), (c[0], c[2], c[1])]
-        for f in fs:
-            key = tuple(sorted(f))
-            if key in faces and len(faces[key]) >= 2:
-                fail("face %s in three elements" % (key,))
-            faces.setdefault(key, []).append((e, f))
-    for key, uses in faces.items():
-        if len(uses) == 2:
-            f0, f1 = uses[0][1], uses[1][1]
-            if nv == 3 and f0 != (f1[1], f1[0]):
-                fail("edge %s has equal orientations" % (key,))
+            fine.apply_mdlt(d)
+            if "BDLT" in rec:
+                fine.apply_bdlt(cutsys.bdlt(rec["BDLT"]))
+        except (cutsys.Bad, struct.error) as e:
+            fail("step %d: %s" % (s, e))
+        for q, par in enumerate(d["parent"]):
+            origin.append(origin[par] if x[nn + q] == x[par] else inserted.setdefault(x[nn + q], nn + q))
+        # conformal, every element positive, open faces on the boundary or on the cut's own open faces
+        mesh = {"x": x, "conn": conn, "nv": nv}
+        vols = [augstream.measure(mesh, e) for e in range(len(conn))]
+        if min(vols) <= 0:
+            fail("step %d: element %d has measure %g" % (s, vols.index(min(vols)), min(vols)))
+        if abs(sum(vols) - area0) > 1e-10 * area0:
+            fail("step %d: total measure %.17g, was %.17g" % (s, sum(vols), area0))
+        fm = conform.face_map(conn)
+        err = conform.shared_errors(fm)
+        if err:
+            fail("step %d: %s" % (s, err))
+        cfm = conform.face_map(coarse.conn)
+        crack = conform.FaceIndex([[coarse.x[v] for v in u[0][1]] for u in cfm.values()
+                                   if len(u) == 1 and outer.find([coarse.x[v] for v in u[0][1]]) < 0], tol)
+        _, err = conform.open_faces(x, fm, outer, origin, lambda pts: crack.find(pts) >= 0)
+        if err:
+            fail("step %d: %s" % (s, err))
+        try:
+            u = cutsys.updt(rec["UPDT"])
+        except (cutsys.Bad, struct.error, KeyError) as e:
+            fail("step %d: UPDT: %s" % (s, e))
+        if u[1] != dim * len(d["parent"]):
+            fail("step %d: UPDT k = %d for %d new nodes" % (s, u[1], len(d["parent"])))
+        err = cutsys.apply_updt(Kacc, facc, u)
+        if err:
+            fail("step %d: UPDT: %s" % (s, err))
+        err = cutsys.check(fine, Kacc, facc, 1e-12, full=s == steps[-1])
+        if err:
+            fail("step %d: K_t and f_t of the updates against an assembly on the refined mesh: %s" % (s, err))
+    faces = fm
     if nv == 4:
-        print("check_refine: %d steps, %d nodes, %d tets, volume %.15g, conformal" % (len(steps), len(x), len(conn), sum(vols)))
+        print("check_refine: %d steps, %d nodes, %d tets, volume %.15g, conformal, K_t of the updates" % (len(steps), len(x), len(conn), sum(vols)))
         return
     # 2-D: open edges on the outer boundary or on a cut segment
     def on_seg(p, sg, tol=1e-9):

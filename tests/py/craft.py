@@ -164,4 +164,5 @@ def main():
     sys.stdout.buffer.write(build(recs))
 
 
-main()
+if __name__ == "__main__":
+    main()

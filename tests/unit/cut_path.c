@@ -101,6 +101,9 @@ static int run_path(aug_mesh *m, const char *text, int mode, int steps, int poli
         }
         int urc = aug_cutter_update(&C, &S, &e);
         if (urc == AUG_ESINGULAR) {
+            /* only --detached error reports a piece; pin and drop must support it */
+            T_CHECK(policy == AUG_DETACH_ERROR, "step %d: a piece left without support under pin/drop: %s",
+                    step, e.msg);
             cc_track U;
             memset(&U, 0, sizeof U);
             U.n = U.cap = aug_cut_order(m, T.nn0, T.nfree0);

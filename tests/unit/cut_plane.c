@@ -143,6 +143,9 @@ static int run_planes(aug_mesh *m, const run_opt *o, run_res *res)
             }
             int urc = aug_cutter_update(&C, &S, &e);
             if (urc == AUG_ESINGULAR) {
+                /* only --detached error reports a piece; pin and drop must support it */
+                T_CHECK(o->policy == AUG_DETACH_ERROR, "step %d: a piece left without support under pin/drop: %s",
+                        step, e.msg);
                 /* independent check: the mesh after the step is singular */
                 cc_track U;
                 memset(&U, 0, sizeof U);

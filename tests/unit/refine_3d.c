@@ -1,11 +1,15 @@
 /* refine in 3-D: a cube of Kuhn tetrahedra, a split step that puts a node near
    the end of an edge (slivers, as a split-mode cut makes them), then conformal
-   longest-edge bisection (lib/refine/bisect3d.c): every face in at most two tets with
-   opposite orientations and open faces only on the cube's surface, volume kept,
-   every tet positive, the worst tet never worse (slivers with a short edge are
-   left: no bisection improves them), fewer bad tets where splits help; the
-   update invariant (K from scratch = eq. 3.1); a later step re-cutting a
-   bisected tet is refused with its message. */
+   longest-edge bisection (lib/refine/bisect3d.c): every face in at most two tets
+   with opposite orientations and open faces only on the cube's surface, volume
+   kept, every tet positive, the worst tet never worse (slivers with a short
+   edge are left: no bisection improves them, and the worst of the whole mesh
+   never worse), the tets a split wrote better than the worst before (qUAl),
+   while the count of bad tets grows by at most the tets added (the children of
+   a split star may stay above the bound, none is worse than the star's worst; a
+   tet no split improves stays, unwritten); the update invariant (K from scratch
+   = eq. 3.1); a later step re-cutting a bisected tet is refused with its
+   message. */
 #include <math.h>
 #include <string.h>
 #include "aug_cut.h"
@@ -90,10 +94,13 @@ static void split_edge(const aug_mesh *m, int32_t a, int32_t b, double s, int32_
     }
 }
 
-static double tvol(const aug_mesh *m, int64_t *bad, double bound)
+/* total volume (-1 if a tet is not positive); bad = tets with R / (3 r) above
+   bound, worst = the largest R / (3 r) */
+static double tvol(const aug_mesh *m, int64_t *bad, double bound, double *worst)
 {
     double v = 0;
     *bad = 0;
+    *worst = 0;
     for (int64_t e = 0; e < m->ne; e++) {
         double x = aug_elem_measure(m, e);
         if (!(x > 0)) return -1;
@@ -101,6 +108,7 @@ static double tvol(const aug_mesh *m, int64_t *bad, double bound)
         aug_quality q;
         aug_elem_quality(m, e, &q);
         *bad += q.aspect > bound;
+        *worst = fmax(*worst, q.aspect);
     }
     return v;
 }
@@ -170,7 +178,9 @@ static void bisect_slivers(void)
     aug_err e;
     T_CHECK(aug_refiner_init(&R, &C, &o, &e) == 0, "init: %s", e.msg);
     int64_t bad0;
-    double v0 = tvol(&C, &bad0, o.max_aspect3);
+    double w0, wc, w1;
+    double v0 = tvol(&C, &bad0, o.max_aspect3, &w0);
+    T_CHECK(bad0 == 0, "%lld bad tets in the Kuhn cube (worst %.3g)", (long long)bad0, w0);
     cholmod_sparse *K0 = aug_assemble_cut(&D, R.nn0, R.map0, R.nfree0, &cm, &e);
     /* the interior edge from node (2,2,2) to (3,3,3), split at 4% */
     int32_t a = (2 * 5 + 2) * 5 + 2, b = (3 * 5 + 3) * 5 + 3;
@@ -180,22 +190,22 @@ static void bisect_slivers(void)
     cube(&cutview, 4);
     aug_mesh_apply(&cutview, &d, &e);
     int64_t badc;
-    tvol(&cutview, &badc, o.max_aspect3);
+    tvol(&cutview, &badc, o.max_aspect3, &wc);
     aug_update u;
     aug_refine_q q;
     T_CHECK(aug_refine_step(&R, &d, NULL, NULL, 0, &out, NULL, &u, &q, &e) == 0, "refine: %s", e.msg);
     T_CHECK(aug_mesh_apply(&D, &out, &e) == 0, "apply: %s", e.msg);
     int64_t bad1;
-    double v1 = tvol(&D, &bad1, o.max_aspect3);
+    double v1 = tvol(&D, &bad1, o.max_aspect3, &w1);
     T_CHECK(v1 > 0, "a tet is inverted or flat");
     T_CHECK(fabs(v1 - v0) < 1e-12, "volume %.17g, was %.17g", v1, v0);
     int64_t fb = faces_bad(&D);
     T_CHECK(fb == 0, "%lld non-conformal faces", (long long)fb);
-    T_CHECK(badc > 0, "the split made no bad tet");
+    T_CHECK(badc > bad0, "the split made no bad tet");
     /* a node 4% along an edge makes wedges with one short edge, which no edge
        bisection improves: refine must leave them no worse */
-    T_CHECK(bad1 <= badc && q.aspect_max <= q.aspect_max0, "bad tets %lld -> %lld, worst %.3g -> %.3g",
-            (long long)badc, (long long)bad1, q.aspect_max0, q.aspect_max);
+    T_CHECK(bad1 <= badc && q.aspect_max <= q.aspect_max0 && w1 <= wc, "bad tets %lld -> %lld, worst %.3g -> %.3g"
+            " (mesh %.3g -> %.3g)", (long long)badc, (long long)bad1, q.aspect_max0, q.aspect_max, wc, w1);
     printf("# 3-D: split made %lld bad tets (max aspect %.3g), refine left %lld (max %.3g); "
            "%lld bisections, %lld tets added\n",
            (long long)badc, q.aspect_max0, (long long)bad1, q.aspect_max, (long long)q.bisections,
@@ -264,7 +274,8 @@ static void jittered(void)
     aug_err e;
     T_CHECK(aug_refiner_init(&R, &C, &o, &e) == 0, "init: %s", e.msg);
     int64_t bad0;
-    double v0 = tvol(&D, &bad0, 1.5);
+    double w0, w1;
+    double v0 = tvol(&D, &bad0, 1.5, &w0);
     /* a step that re-writes every tet as it is (every tet is the step's) */
     int32_t a = (2 * 5 + 2) * 5 + 2;
     aug_mdelta d, out;
@@ -287,13 +298,17 @@ static void jittered(void)
     T_CHECK(aug_refine_step(&R, &d, NULL, NULL, 0, &out, NULL, NULL, &q, &e) == 0, "refine: %s", e.msg);
     T_CHECK(aug_mesh_apply(&D, &out, &e) == 0, "apply: %s", e.msg);
     int64_t bad1;
-    double v1 = tvol(&D, &bad1, 1.5);
+    double v1 = tvol(&D, &bad1, 1.5, &w1);
     T_CHECK(v1 > 0 && fabs(v1 - v0) < 1e-12, "volume %.17g, was %.17g", v1, v0);
+    T_CHECK(w1 <= w0, "the mesh's worst tet %.3g -> %.3g", w0, w1);
+    T_CHECK(bad1 <= bad0 + q.added, "bad tets %lld -> %lld with %lld tets added", (long long)bad0,
+            (long long)bad1, (long long)q.added);
     T_CHECK(faces_bad(&D) == 0, "not conformal");
     T_CHECK(q.bisections > 0, "no split improved anything");
     T_CHECK(q.aspect_max < q.aspect_max0, "worst aspect %.3g -> %.3g", q.aspect_max0, q.aspect_max);
-    printf("# jittered: %lld bisections; step's worst aspect %.3g -> %.3g, mean %.3g -> %.3g\n",
-           (long long)q.bisections, q.aspect_max0, q.aspect_max, q.aspect_mean0, q.aspect_mean);
+    printf("# jittered: %lld bisections, %lld tets added; bad tets %lld -> %lld; step's worst aspect %.3g -> %.3g,"
+           " mean %.3g -> %.3g\n", (long long)q.bisections, (long long)q.added, (long long)bad0, (long long)bad1,
+           q.aspect_max0, q.aspect_max, q.aspect_mean0, q.aspect_mean);
     /* re-cut: split an edge at some node whose tets refine bisected */
     int refused = 0;
     for (int32_t v = 0; v < cutview.nn * cutview.nn && !refused; v++) {

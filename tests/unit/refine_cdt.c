@@ -135,6 +135,7 @@ static void recover_segments(void)
     aug_cdt_init(&c);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 11);
+    int crossed = 0;
     for (int rep = 0; rep < 20; rep++) {
         square(&c);
         for (int i = 0; i < 200; i++) insert_xy(&c, gsl_rng_uniform(r), gsl_rng_uniform(r));
@@ -161,9 +162,23 @@ static void recover_segments(void)
         T_CHECK(valid(&c, &a), "invalid after recovery (rep %d)", rep);
         T_CHECK(fabs(a - 1) < 1e-12, "area %.17g", a);
         T_CHECK(locally_delaunay(&c), "not constrained Delaunay (rep %d)", rep);
-        /* a long segment through many triangles between two existing vertices */
-        T_CHECK(aug_cdt_recover(&c, 0, 2) == 0 || 1, "diagonal");
+        /* a long segment through many triangles between two existing vertices:
+           the square's diagonal y = x, refused exactly when the fixed chain
+           crosses it (a chain vertex on it splits it instead) */
+        int cross = 0;
+        for (int k = 1; k < 12; k++) {
+            const double *p = c.xy + 2 * chain[k - 1], *q = c.xy + 2 * chain[k];
+            cross |= (p[1] - p[0] > 0 && q[1] - q[0] < 0) || (p[1] - p[0] < 0 && q[1] - q[0] > 0);
+        }
+        int rc = aug_cdt_recover(&c, 0, 2);
+        T_CHECK(rc == (cross ? AUG_EDATA : 0), "rep %d: diagonal %s: rc %d", rep,
+                cross ? "crosses the chain" : "free", rc);
+        if (rc == 0)
+            T_CHECK(has_edge(&c, 0, 2) && aug_cdt_is_fixed(&c, 0, 2), "rep %d: the diagonal is no fixed edge", rep);
+        T_CHECK(valid(&c, &a) && fabs(a - 1) < 1e-12, "rep %d: invalid after the diagonal (area %.17g)", rep, a);
+        crossed += cross;
     }
+    T_CHECK(crossed > 0 && crossed < 20, "%d of 20 chains cross the diagonal: both cases wanted", crossed);
     gsl_rng_free(r);
     aug_cdt_free(&c);
 }

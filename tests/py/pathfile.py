@@ -1,0 +1,71 @@
+"""The path file of cut(1) (PATH FILE), read from the manual only, for the
+test oracles: line, polyline, cubic Bezier, rational quadratic arc (weights
+1, w, 1) and circle (four quarter arcs, w = cos 45 deg, counter-clockwise from
+(cx + r, cy)); '#' comments; numbers separated by blanks or commas. The path
+is advanced by arc length over all its items (gaps between strokes do not
+count)."""
+import math
+
+COUNT = {"line": 4, "bezier": 8, "arc": 7, "circle": 3}
+
+
+def item(kind, v):
+    """the point function [0, 1] -> (x, y) of one item"""
+    if kind == "line":
+        return lambda t: (v[0] + t * (v[2] - v[0]), v[1] + t * (v[3] - v[1]))
+    if kind == "bezier":
+        def cubic(t):
+            b = ((1 - t) ** 3, 3 * t * (1 - t) ** 2, 3 * t * t * (1 - t), t ** 3)
+            return tuple(sum(b[i] * v[2 * i + k] for i in range(4)) for k in (0, 1))
+        return cubic
+    w = v[6]
+
+    def arc(t):
+        b = ((1 - t) ** 2, 2 * w * t * (1 - t), t * t)
+        return tuple(sum(b[i] * v[2 * i + k] for i in range(3)) / sum(b) for k in (0, 1))
+    return arc
+
+
+def read(name):
+    """the items of the path file, in order"""
+    out = []
+    for line in open(name):
+        words = line.split("#", 1)[0].replace(",", " ").split()
+        if not words:
+            continue
+        v = [float(s) for s in words[1:]]
+        if words[0] == "polyline":
+            out += [item("line", v[i:i + 4]) for i in range(0, len(v) - 2, 2)]
+        elif words[0] == "circle":
+            cx, cy, r = v
+            w = math.cos(math.pi / 4)
+            for q in range(4):
+                a = [(cx + r * math.cos(math.pi / 2 * k), cy + r * math.sin(math.pi / 2 * k)) for k in (q, q + 1)]
+                c = (a[0][0] + a[1][0] - cx, a[0][1] + a[1][1] - cy)  # the corner between them
+                out.append(item("arc", [a[0][0], a[0][1], c[0], c[1], a[1][0], a[1][1], w]))
+        elif words[0] in COUNT and len(v) == COUNT[words[0]]:
+            out.append(item(words[0], v))
+        else:
+            raise ValueError("%s: cannot read '%s'" % (name, line.strip()))
+    return out
+
+
+class Path:
+    """the items sampled by fine chords: arc length s -> point"""
+
+    def __init__(self, name, chords=1024):
+        self.pts, self.s = [], []
+        total = 0.0
+        for f in read(name):
+            prev = f(0.0)
+            for i in range(chords + 1):
+                p = f(i / chords)
+                total += math.dist(prev, p)
+                self.pts.append(p)
+                self.s.append(total)
+                prev = p
+        self.total = total
+
+    def part(self, s0, s1):
+        """the sample points with arc length in [s0, s1]"""
+        return [p for p, s in zip(self.pts, self.s) if s0 <= s <= s1]
