@@ -14,18 +14,20 @@ cuts, whose command lines (their pROv records) say what each step must do.
   with opposite orientations; an open face on the outer boundary of IN's mesh
   or one side of a cut whose other side is a coincident open face of nodes
   that are copies of the same nodes: no hanging node);
-- the requested nodes were duplicated: a step makes new nodes (or only
-  changes constraints); planar cuts (--plane, random planes rebuilt from the
-  seed as GSL's mt19937 draws them): the step's parents are exactly the next
-  --per-step K cut nodes in advance order (nodes of the faces between
-  elements whose centroids lie on the two sides), each copy at its parent,
-  the star of each split into its classes along the cut faces with the -
-  side keeping the node and one copy per other class, only those nodes
-  re-wired, and the faces it opens exactly the cut faces at the duplicated
-  nodes (pATH = their edges); path cuts (--path): copies on a cut segment,
-  inserted nodes on the step's segments next to their parent, every pATH
-  segment a mesh edge, and at every node on the cut so far its star split
-  into classes along the cut edges with one node per class;
+- the requested nodes were duplicated. Planar cuts (--plane, random planes
+  drawn again from the seed as GSL's mt19937 does, --polygon applied): the
+  step's parents are exactly the next --per-step K cut nodes in advance order
+  (nodes of the faces between elements whose centroids lie on the two sides,
+  within one longest edge of the plane), each copy at its parent, the star of
+  each split into its classes along the cut faces with the - side keeping
+  the node and one copy per other class, only those nodes re-wired, and the
+  faces it opens exactly the cut faces at the duplicated nodes (pATH = their
+  edges). Path cuts (--path, the path file read here): every pATH point
+  within one longest edge of the step's part of the path, pATH not empty
+  where that part runs more than three longest edges deep inside the mesh,
+  copies on a cut segment, inserted nodes on the step's segments next to
+  their parent, every pATH segment a mesh edge, and at every node on the cut
+  so far its star split into classes along the cut edges, one node a class;
 - K_t and f_t accumulated from K_0 (KMAT of IN, or assembled here when IN has
   none) and the UPDT records (k = dim * new nodes) equal the cut system
   assembled here (tet4, tri3 plane stress) on the step's mesh at every step,
@@ -329,6 +331,8 @@ class Checker:
                 self.fail("new node %d is no copy of a node of the mesh before the step (parent %d)" % (nn0 + q, p))
             if p not in pl.cutset:
                 self.fail("node %d is duplicated but lies on no face between the two sides of the plane" % p)
+            if abs(dot(x[p], pl.n) - pl.d) > self.h:
+                self.fail("node %d is duplicated %g away from the plane" % (p, abs(dot(x[p], pl.n) - pl.d)))
         if d["cadd"]:
             self.fail("a planar cut adds %d elements" % len(d["cadd"]))
         if len(parents) != min(pl.per, len(pl.order) - pl.next):
