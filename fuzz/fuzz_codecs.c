@@ -24,15 +24,16 @@ static char *roundtrip(const char *type, put_fn put, const void *obj, int deflat
     aug_writer_free(w);
     fclose(f);
     if (rc && rc != AUG_ENOMEM) fuzz_fail("%s: its writer refuses what its reader accepted: %s", type, e.msg);
-    FILE *g = rc ? NULL : fmemopen(buf, *len, "rb");
-    aug_reader *r = g ? aug_reader_open(g, "roundtrip", &e) : NULL;
-    if (g && !r) fuzz_fail("%s: the written stream does not open: %s", type, e.msg);
-    aug_rec rec;
-    memset(&rec, 0, sizeof rec);
-    while (r && (rc = aug_read(r, &rec, &e)) == 1)
-        if (aug_check_payload(&rec, &e)) fuzz_fail("%s: written by its codec, fails its check: %s", type, e.msg);
-    if (r && rc < 0) fuzz_fail("%s: the written stream does not read back: %s", type, e.msg);
-    if (r) fuzz_close(r, g, &rec);
+    if (rc) {
+        free(buf);
+        return NULL;
+    }
+    fuzz_in in;
+    if (fuzz_open(&in, buf, *len, &e)) fuzz_fail("%s: the written stream does not open: %s", type, e.msg);
+    while ((rc = aug_read(in.r, &in.rec, &e)) == 1)
+        if (aug_check_payload(&in.rec, &e)) fuzz_fail("%s: written by its codec, fails its check: %s", type, e.msg);
+    if (rc < 0) fuzz_fail("%s: the written stream does not read back: %s", type, e.msg);
+    fuzz_close(&in);
     return buf;
 }
 
@@ -264,63 +265,56 @@ static void confused(const aug_rec *rec, aug_mesh *m)
 
 /* records passed through byte for byte (aug_write_rec of a copy, as a tool
    holding a step does) make a stream that reads back whole */
-static void pass_through(aug_reader *r, FILE *in)
+static void pass_through(fuzz_in *in)
 {
     char *buf = NULL;
     size_t len = 0;
     aug_err e;
-    aug_rec rec, copy;
-    memset(&rec, 0, sizeof rec);
+    aug_rec copy;
     FILE *f = open_memstream(&buf, &len);
     aug_writer *w = f ? aug_writer_open(f, "fuzz", &e) : NULL;
-    while (w && aug_read(r, &rec, &e) == 1)
-        if (!aug_rec_copy(&copy, &rec, &e)) {
+    while (w && aug_read(in->r, &in->rec, &e) == 1)
+        if (!aug_rec_copy(&copy, &in->rec, &e)) {
             aug_write_rec(w, &copy, &e);
             aug_rec_free(&copy);
         }
     int whole = w && !aug_writer_close(w, &e);
     aug_writer_free(w);
     if (f) fclose(f);
-    fuzz_close(r, in, &rec);
-    FILE *g = whole ? fmemopen(buf, len, "rb") : NULL;
-    aug_reader *q = g ? aug_reader_open(g, "passed", &e) : NULL;
-    int rc = q ? 1 : -1;
-    while (rc == 1) rc = aug_read(q, &rec, &e);
-    if (g && rc != 0) fuzz_fail("records passed through do not read back: %s", e.msg);
-    if (q) fuzz_close(q, g, &rec);
-    else if (g) fclose(g);
+    fuzz_in q;
+    int rc = whole ? fuzz_open(&q, buf, len, &e) : 0;
+    while (whole && rc == 0 && (rc = aug_read(q.r, &q.rec, &e)) == 1) rc = 0;
+    if (whole && rc != 0) fuzz_fail("records passed through do not read back: %s", e.msg);
+    if (whole) fuzz_close(&q);
     free(buf);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    FILE *f;
-    aug_reader *r = fuzz_open(data, size, &f);
-    if (!r) return 0;
+    fuzz_in in;
     aug_err e;
-    aug_rec rec;
-    memset(&rec, 0, sizeof rec);
+    if (fuzz_open(&in, data, size, &e)) return 0;
     aug_mesh dm, mm;  /* the dump's mesh, the typed readers' mesh */
     aug_mesh_init(&dm);
     aug_mesh_init(&mm);
     cholmod_common cm;
     aug_cholmod_start(&cm);
-    aug_dump_head(fuzz_devnull(), r, &e);
+    aug_dump_head(fuzz_devnull(), in.r, &e);
     int mesh_ok = 1, rc;
     aug_mesh xm;  /* the mesh of the confused dumps */
     aug_mesh_init(&xm);
-    while ((rc = aug_read(r, &rec, &e)) == 1) {
-        int checked = aug_check_payload(&rec, &e) == 0;
-        int dumped = aug_dump_rec(fuzz_devnull(), &dm, &rec, &e) == 0;
+    while ((rc = aug_read(in.r, &in.rec, &e)) == 1) {
+        int checked = aug_check_payload(&in.rec, &e) == 0;
+        int dumped = aug_dump_rec(fuzz_devnull(), &dm, &in.rec, &e) == 0;
         if (dumped && !checked)
-            fuzz_fail("%s: dumped but refused by its check", rec.type);
-        if (aug_mesh_is_record(rec.type)) mesh_ok = mesh_ok && !aug_mesh_absorb(&mm, &rec, &e);
-        else typed_matrix(&rec, &cm), typed_step(&rec, &dm);
-        confused(&rec, &xm);
+            fuzz_fail("%s: dumped but refused by its check", in.rec.type);
+        if (aug_mesh_is_record(in.rec.type)) mesh_ok = mesh_ok && !aug_mesh_absorb(&mm, &in.rec, &e);
+        else typed_matrix(&in.rec, &cm), typed_step(&in.rec, &dm);
+        confused(&in.rec, &xm);
     }
     if (rc == 0) { /* TAIL, as stats --dump ends */
-        aug_check_payload(&rec, &e);
-        aug_dump_rec(fuzz_devnull(), &dm, &rec, &e);
+        aug_check_payload(&in.rec, &e);
+        aug_dump_rec(fuzz_devnull(), &dm, &in.rec, &e);
     }
     aug_mesh_free(&xm);
     step_obj s;
@@ -330,7 +324,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     aug_mesh_free(&dm);
     aug_mesh_free(&mm);
     cholmod_finish(&cm);
-    fuzz_close(r, f, &rec);
-    if ((r = fuzz_open(data, size, &f))) pass_through(r, f);
+    fuzz_close(&in);
+    if (!fuzz_open(&in, data, size, &e)) {
+        pass_through(&in);
+        fuzz_close(&in);
+    }
     return 0;
 }

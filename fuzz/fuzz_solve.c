@@ -26,12 +26,9 @@ static int step(aug_replay *rp, aug_sys0 *sys, const aug_solver_opts *o, aug_wri
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    FILE *f;
-    aug_reader *r = fuzz_open(data, size, &f);
-    if (!r) return 0;
+    fuzz_in in;
     aug_err e;
-    aug_rec rec;
-    memset(&rec, 0, sizeof rec);
+    if (fuzz_open(&in, data, size, &e)) return 0;
     aug_replay rp;
     aug_replay_init(&rp);
     /* --output from the stream's length: the stream's own, surface, all or a set */
@@ -46,14 +43,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     o.spare = 64;
     aug_writer *w = aug_writer_open(fuzz_devnull(), "fuzz", &e);
     if (w && !aug_sys0_init(&sys, &e)) {
-        while (aug_read(r, &rec, &e) == 1) {
-            if (aug_replay_add(&rp, &rec, &e) || aug_sys0_add(&sys, &rec, &e)) break;
-            if (!memcmp(rec.type, "UPDT", 4) && step(&rp, &sys, &o, w, &rec, &e)) break;
+        while (aug_read(in.r, &in.rec, &e) == 1) {
+            if (aug_replay_add(&rp, &in.rec, &e) || aug_sys0_add(&sys, &in.rec, &e)) break;
+            if (!memcmp(in.rec.type, "UPDT", 4) && step(&rp, &sys, &o, w, &in.rec, &e)) break;
         }
         aug_sys0_free(&sys);
     }
     aug_writer_free(w);
     aug_replay_free(&rp);
-    fuzz_close(r, f, &rec);
+    fuzz_close(&in);
     return 0;
 }

@@ -8,23 +8,20 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    FILE *f;
-    aug_reader *r = fuzz_open(data, size, &f);
-    if (!r) return 0;
+    fuzz_in in;
     aug_err e;
-    aug_rec rec;
-    memset(&rec, 0, sizeof rec);
+    if (fuzz_open(&in, data, size, &e)) return 0;
     /* the --step of --vtk from the stream's length: the last step or step 1 */
     int32_t limit = size % 2 ? 1 : INT32_MAX;
-    aug_summary *s = aug_summary_new(r, limit, &e);
+    aug_summary *s = aug_summary_new(in.r, limit, &e);
     int rc = 0;
-    while (s && (rc = aug_read(r, &rec, &e)) > 0)
-        if (aug_summary_add(s, &rec, &e)) {
+    while (s && (rc = aug_read(in.r, &in.rec, &e)) > 0)
+        if (aug_summary_add(s, &in.rec, &e)) {
             rc = -1;
             break;
         }
     if (s) {
-        aug_summary_end(s, rc == 0 ? &rec : NULL);
+        aug_summary_end(s, rc == 0 ? &in.rec : NULL);
         FILE *null = fuzz_devnull();
         aug_summary_print(null, s, "fuzz", &e);
         if (rc == 0) aug_steptab_csv(null, aug_summary_steps(s), &e);
@@ -41,6 +38,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         free(mask);
         aug_summary_free(s);
     }
-    fuzz_close(r, f, &rec);
+    fuzz_close(&in);
     return 0;
 }

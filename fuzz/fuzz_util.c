@@ -4,21 +4,23 @@
 #include <string.h>
 #include "fuzz_util.h"
 
-aug_reader *fuzz_open(const uint8_t *data, size_t size, FILE **f)
+int fuzz_open(fuzz_in *in, const void *data, size_t size, aug_err *e)
 {
-    aug_err e;
-    *f = size ? fmemopen((void *)data, size, "rb") : NULL;
-    if (!*f) return NULL;
-    aug_reader *r = aug_reader_open(*f, "fuzz", &e);
-    if (!r) fclose(*f);
-    return r;
+    memset(in, 0, sizeof *in);
+    aug_err_clear(e);
+    in->f = size ? fmemopen((void *)data, size, "rb") : NULL;
+    if (!in->f) return -1;
+    in->r = aug_reader_open(in->f, "fuzz", e);
+    if (in->r) return 0;
+    fclose(in->f);
+    return -1;
 }
 
-void fuzz_close(aug_reader *r, FILE *f, aug_rec *rec)
+void fuzz_close(fuzz_in *in)
 {
-    aug_rec_free(rec);
-    aug_reader_free(r);
-    fclose(f);
+    aug_rec_free(&in->rec);
+    aug_reader_free(in->r);
+    fclose(in->f);
 }
 
 FILE *fuzz_devnull(void)

@@ -7,9 +7,15 @@
 #include <stdio.h>
 #include "augcut.h"
 
-/* A reader over data[size] (its FILE in *f, closed by fuzz_close), or NULL. */
-aug_reader *fuzz_open(const uint8_t *data, size_t size, FILE **f);
-void fuzz_close(aug_reader *r, FILE *f, aug_rec *rec);
+/* A stream in memory being read: its FILE, the reader, the current record. */
+typedef struct fuzz_in {
+    FILE *f;
+    aug_reader *r;
+    aug_rec rec;
+} fuzz_in;
+/* Open a reader over data[size]: 0, or -1 when it does not open (e filled). */
+int fuzz_open(fuzz_in *in, const void *data, size_t size, aug_err *e);
+void fuzz_close(fuzz_in *in);
 /* /dev/null opened for writing once, for dumps and summaries. */
 FILE *fuzz_devnull(void);
 /* A finding: the message on stderr, then abort() so that libFuzzer keeps the input. */

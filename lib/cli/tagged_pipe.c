@@ -18,11 +18,12 @@
 #define MAGIC_BEGIN 0x31544741u /* "AGT1" */
 #define MAGIC_END 0x31444e45u   /* "END1" */
 
-static int put(int fd, const void *p, size_t n)
+/* all n bytes of p written (out) or read; -1 on an error or the end of the pipe */
+static int xfer(int fd, void *p, size_t n, int out)
 {
-    const char *c = p;
+    char *c = p;
     while (n > 0) {
-        ssize_t k = write(fd, c, n);
+        ssize_t k = out ? write(fd, c, n) : read(fd, c, n);
         if (k < 0 && errno == EINTR) continue;
         if (k <= 0) return -1;
         c += k;
@@ -31,18 +32,8 @@ static int put(int fd, const void *p, size_t n)
     return 0;
 }
 
-static int get(int fd, void *p, size_t n)
-{
-    char *c = p;
-    while (n > 0) {
-        ssize_t k = read(fd, c, n);
-        if (k < 0 && errno == EINTR) continue;
-        if (k <= 0) return -1;
-        c += k;
-        n -= (size_t)k;
-    }
-    return 0;
-}
+static int put(int fd, const void *p, size_t n) { return xfer(fd, (void *)p, n, 1); }
+static int get(int fd, void *p, size_t n) { return xfer(fd, p, n, 0); }
 
 /* a count, then count*width items */
 static int put_array(int fd, size_t count, const void *v, size_t width)
