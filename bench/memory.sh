@@ -78,19 +78,13 @@ sys.exit(p.wait())
 PY
 done
 column -s, -t < $CSV
-
-if command -v gnuplot > /dev/null; then
-    gnuplot <<GP
-set terminal pngcairo size 900,500
-set output "$OUT/memory.png"
+command -v gnuplot > /dev/null || { echo "memory.sh: gnuplot not found, no plot" >&2; exit 0; }
+gnuplot <<GP
 set datafile separator ","
-set title "solve-aug --method amps: peak RSS, brick 1 x 1 x 2 in $NX x $NY x $NZ cells, one node a step"
-set xlabel "cut step"
-set ylabel "peak RSS (MB)"
-set key top left
-plot "$CSV" using (strcol(1) eq "amps" ? \$2 : 1/0):3 with linespoints pt 7 title "amps", \
-     "$CSV" using (strcol(1) eq "amps_bg" ? \$2 : 1/0):3 with linespoints pt 5 title "amps --background"
+set terminal pngcairo size 900,500; set output "$OUT/memory.png"
+set xlabel "cut step"; set ylabel "MB"; set key top left
+set title "solve-aug --method amps, brick 1 x 1 x 2 in $NX x $NY x $NZ cells, one node a step"
+plot "$CSV" using (strcol(1) eq "amps" ? \$2 : 1/0):3 with linespoints pt 7 title "amps: peak RSS", \
+     "$CSV" using (strcol(1) eq "amps_bg" ? \$2 : 1/0):3 with linespoints pt 5 title "amps --background: peak RSS", \
+     "$CSV" using (strcol(1) eq "amps_bg" ? \$2 : 1/0):4 with points pt 4 title "amps --background: RSS at the step"
 GP
-else
-    echo "memory.sh: gnuplot not found, no plot" >&2
-fi

@@ -11,6 +11,13 @@
 
 /* ---- cumulative update (cutmat.c) -------------------------------------- */
 
+/* a column of Ebar: positions i[0..nz) increasing, values x (capacity cap) */
+typedef struct aug_ecol {
+    int32_t *i;
+    double *x;
+    int32_t nz, cap;
+} aug_ecol;
+
 /* K_t = Kbar - P_S Ebar P_S', f_t = [f_b; 0] + P_S dF, relative to a base
    matrix K_b of order nb: Kbar = blkdiag(K_b, I), S the union of every step's
    Hbar (AMPS eq. 3.1 composed over steps), in insertion order. */
@@ -21,15 +28,12 @@ typedef struct aug_cum {
     int32_t *S;          /* S[p]: matrix index at position p */
     int32_t *pos;        /* pos[i]: position of index i in S, -1 if none (size pcap) */
     int64_t pcap;
-    /* Ebar = Kbar - K_t on S x S by sparse columns: column p holds the
-       positions ei[p][0..enz[p]) in increasing order and their values
-       ex[p][..]; an entry is kept once an update touched it (its value may
-       have cancelled to 0), an entry never touched is 0 */
-    int32_t **ei;
-    double **ex;
-    int32_t *enz, *ecap;
-    int64_t nnzE;        /* sum of enz */
-    int64_t enzmax;      /* max of enz */
+    /* Ebar = Kbar - K_t on S x S by sparse columns E[p]: an entry is kept
+       once an update touched it (its value may have cancelled to 0), an
+       entry never touched is 0 */
+    aug_ecol *E;
+    int64_t nnzE;        /* entries kept, all columns */
+    int64_t enzmax;      /* entries of the longest column */
     double *dF;          /* f_t - [f_b; 0] on S */
     int64_t *mod;        /* mod[p]: value of napply when Ebar(:, p) last changed */
     int64_t napply;      /* number of updates composed */

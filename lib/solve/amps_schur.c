@@ -63,8 +63,8 @@ static int activate(aug_schur *s, const aug_memo *M, const aug_cum *c)
     for (int64_t p = 0; p < c->ns; p++) {
         if (s->act[p] || c->mod[p] <= s->stamp) continue;
         int32_t t = 0;
-        while (t < c->enz[p] && c->ex[p][t] == 0) t++;
-        if (t == c->enz[p]) continue;
+        while (t < c->E[p].nz && c->E[p].x[t] == 0) t++;
+        if (t == c->E[p].nz) continue;
         if (s->na == s->acap) {
             int64_t nc = s->acap ? 2 * s->acap : 64;
             int32_t *A = aug_realloc(s->A, (size_t)nc * sizeof *A);
@@ -160,7 +160,8 @@ static int elists(aug_schur *s, const aug_cum *c, const unsigned char *chg, int6
     for (int64_t q = 0; q < n1; q++) qa[s->A[q]] = (int32_t)q;
     for (int64_t b = 0; b < n1; b++) {
         int32_t pb = s->A[b];
-        int64_t len = b < n0 && !chg[b] ? s->ep[b + 1] - s->ep[b] : c->enz[pb];
+        const aug_ecol *E = &c->E[pb];
+        int64_t len = b < n0 && !chg[b] ? s->ep[b + 1] - s->ep[b] : E->nz;
         ep[b] = nz;
         if (nz + len > cap) {
             while (nz + len > cap) cap *= 2;
@@ -177,9 +178,9 @@ static int elists(aug_schur *s, const aug_cum *c, const unsigned char *chg, int6
             nz += len;
             continue;
         }
-        for (int32_t t = 0; t < c->enz[pb]; t++) {
-            int32_t q = qa[c->ei[pb][t]];
-            double v = c->ex[pb][t];
+        for (int32_t t = 0; t < E->nz; t++) {
+            int32_t q = qa[E->i[t]];
+            double v = E->x[t];
             if (q < 0 || v == 0) continue;
             /* insertion by row: the column is short */
             int64_t k = nz++;

@@ -18,11 +18,8 @@ int aug_cum_init(aug_cum *c, int64_t nb, aug_err *e)
 
 void aug_cum_free(aug_cum *c)
 {
-    for (int64_t p = 0; p < c->ns; p++) free(c->ei[p]), free(c->ex[p]);
-    free(c->ei);
-    free(c->ex);
-    free(c->enz);
-    free(c->ecap);
+    for (int64_t p = 0; p < c->ns; p++) free(c->E[p].i), free(c->E[p].x);
+    free(c->E);
     free(c->S);
     free(c->pos);
     free(c->dF);
@@ -53,18 +50,9 @@ static int grow_s(aug_cum *c, int64_t need)
     int64_t *mod = aug_realloc(c->mod, (size_t)nc * sizeof *mod);
     if (!mod) return -1;
     c->mod = mod;
-    int32_t **ei = aug_realloc(c->ei, (size_t)nc * sizeof *ei);
-    if (!ei) return -1;
-    c->ei = ei;
-    double **ex = aug_realloc(c->ex, (size_t)nc * sizeof *ex);
-    if (!ex) return -1;
-    c->ex = ex;
-    int32_t *enz = aug_realloc(c->enz, (size_t)nc * sizeof *enz);
-    if (!enz) return -1;
-    c->enz = enz;
-    int32_t *ecap = aug_realloc(c->ecap, (size_t)nc * sizeof *ecap);
-    if (!ecap) return -1;
-    c->ecap = ecap;
+    aug_ecol *E = aug_realloc(c->E, (size_t)nc * sizeof *E);
+    if (!E) return -1;
+    c->E = E;
     c->cap = nc;
     return 0;
 }
@@ -73,32 +61,32 @@ static int grow_s(aug_cum *c, int64_t need)
    NULL when out of memory */
 static double *entry(aug_cum *c, int32_t p, int32_t r)
 {
-    int32_t *ei = c->ei[p], lo = 0, hi = c->enz[p];
+    aug_ecol *e = &c->E[p];
+    int32_t lo = 0, hi = e->nz;
     while (lo < hi) {
         int32_t mid = lo + (hi - lo) / 2;
-        if (ei[mid] < r) lo = mid + 1;
+        if (e->i[mid] < r) lo = mid + 1;
         else hi = mid;
     }
-    if (lo < c->enz[p] && ei[lo] == r) return c->ex[p] + lo;
-    if (c->enz[p] == c->ecap[p]) {
-        int32_t nc = c->ecap[p] ? 2 * c->ecap[p] : 16;
-        int32_t *i2 = aug_realloc(c->ei[p], (size_t)nc * sizeof *i2);
+    if (lo < e->nz && e->i[lo] == r) return e->x + lo;
+    if (e->nz == e->cap) {
+        int32_t nc = e->cap ? 2 * e->cap : 16;
+        int32_t *i2 = aug_realloc(e->i, (size_t)nc * sizeof *i2);
         if (!i2) return NULL;
-        c->ei[p] = i2;
-        double *x2 = aug_realloc(c->ex[p], (size_t)nc * sizeof *x2);
+        e->i = i2;
+        double *x2 = aug_realloc(e->x, (size_t)nc * sizeof *x2);
         if (!x2) return NULL;
-        c->ex[p] = x2;
-        c->ecap[p] = nc;
+        e->x = x2;
+        e->cap = nc;
     }
-    int32_t k = c->enz[p] - lo;
-    memmove(c->ei[p] + lo + 1, c->ei[p] + lo, (size_t)k * sizeof *c->ei[p]);
-    memmove(c->ex[p] + lo + 1, c->ex[p] + lo, (size_t)k * sizeof *c->ex[p]);
-    c->ei[p][lo] = r;
-    c->ex[p][lo] = 0;
-    c->enz[p]++;
+    memmove(e->i + lo + 1, e->i + lo, (size_t)(e->nz - lo) * sizeof *e->i);
+    memmove(e->x + lo + 1, e->x + lo, (size_t)(e->nz - lo) * sizeof *e->x);
+    e->i[lo] = r;
+    e->x[lo] = 0;
+    e->nz++;
     c->nnzE++;
-    if (c->enz[p] > c->enzmax) c->enzmax = c->enz[p];
-    return c->ex[p] + lo;
+    if (e->nz > c->enzmax) c->enzmax = e->nz;
+    return e->x + lo;
 }
 
 static int grow_pos(aug_cum *c, int64_t need)
@@ -146,7 +134,7 @@ int aug_cum_apply(aug_cum *c, const aug_update *u, aug_err *e)
             c->S[p] = idx;
             c->dF[p] = 0;
             c->mod[p] = 0;
-            c->ei[p] = NULL, c->ex[p] = NULL, c->enz[p] = c->ecap[p] = 0;
+            c->E[p] = (aug_ecol){0};
         }
         map[i] = c->pos[idx];
     }
@@ -220,9 +208,8 @@ void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y)
     for (int64_t q = 0; q < c->ns; q++) {
         double xq = x[c->S[q]];
         if (xq == 0) continue;
-        const int32_t *ei = c->ei[q];
-        const double *ex = c->ex[q];
-        for (int32_t t = 0; t < c->enz[q]; t++) y[c->S[ei[t]]] -= ex[t] * xq;
+        const aug_ecol *E = &c->E[q];
+        for (int32_t t = 0; t < E->nz; t++) y[c->S[E->i[t]]] -= E->x[t] * xq;
     }
 }
 
@@ -281,9 +268,8 @@ double aug_cutmat_relres_changed(aug_cutmat *m, const double *x)
             for (int t = Ap[i]; t < Ap[i + 1]; t++) k += Ax[t] * x[Ai[t]]; /* row i = column i */
         else
             k = x[i];
-        const int32_t *ei = c->ei[p]; /* column p: row p of the symmetric Ebar */
-        const double *ex = c->ex[p];
-        for (int32_t t = 0; t < c->enz[p]; t++) k -= ex[t] * x[c->S[ei[t]]];
+        const aug_ecol *E = &c->E[p]; /* column p: row p of the symmetric Ebar */
+        for (int32_t t = 0; t < E->nz; t++) k -= E->x[t] * x[c->S[E->i[t]]];
         rr += (f[i] - k) * (f[i] - k);
     }
     return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
@@ -335,9 +321,8 @@ int64_t aug_cutmat_column(const aug_cutmat *m, int64_t j, int32_t *idx, double *
         for (int k = Ap[j]; k < Ap[j + 1]; k++) scratch[Ai[k]] = Ax[k];
     else
         scratch[j] = 1.0;
-    const int32_t *ei = c->ei[pj];
-    const double *ex = c->ex[pj];
-    for (int32_t t = 0; t < c->enz[pj]; t++) scratch[c->S[ei[t]]] -= ex[t];
+    const aug_ecol *E = &c->E[pj];
+    for (int32_t t = 0; t < E->nz; t++) scratch[c->S[E->i[t]]] -= E->x[t];
     /* gather: unchanged rows of K0's column, then its rows in S, Ebar's rows
        and the diagonal where they did not cancel; sort */
     if (j < m->n0) {
@@ -351,8 +336,8 @@ int64_t aug_cutmat_column(const aug_cutmat *m, int64_t j, int32_t *idx, double *
             scratch[i] = 0;
         }
     }
-    for (int32_t t = 0; t < c->enz[pj]; t++) {
-        int32_t i = c->S[ei[t]];
+    for (int32_t t = 0; t < E->nz; t++) {
+        int32_t i = c->S[E->i[t]];
         if (scratch[i] != 0) idx[nz] = i, val[nz++] = scratch[i];
         scratch[i] = 0;
     }
