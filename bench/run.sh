@@ -10,4 +10,5 @@ run cut.sh
 run solve.sh
 run solve_figs.sh
 run refine.sh
+run memory.sh
 exit $status

@@ -11,6 +11,13 @@
 
 /* ---- cumulative update (cutmat.c) -------------------------------------- */
 
+/* a column of Ebar: positions i[0..nz) increasing, values x (capacity cap) */
+typedef struct aug_ecol {
+    int32_t *i;
+    double *x;
+    int32_t nz, cap;
+} aug_ecol;
+
 /* K_t = Kbar - P_S Ebar P_S', f_t = [f_b; 0] + P_S dF, relative to a base
    matrix K_b of order nb: Kbar = blkdiag(K_b, I), S the union of every step's
    Hbar (AMPS eq. 3.1 composed over steps), in insertion order. */
@@ -21,7 +28,12 @@ typedef struct aug_cum {
     int32_t *S;          /* S[p]: matrix index at position p */
     int32_t *pos;        /* pos[i]: position of index i in S, -1 if none (size pcap) */
     int64_t pcap;
-    double *E;           /* Ebar = Kbar - K_t on S x S, column-major, leading dim cap */
+    /* Ebar = Kbar - K_t on S x S by sparse columns E[p]: an entry is kept
+       once an update touched it (its value may have cancelled to 0), an
+       entry never touched is 0 */
+    aug_ecol *E;
+    int64_t nnzE;        /* entries kept, all columns */
+    int64_t enzmax;      /* entries of the longest column */
     double *dF;          /* f_t - [f_b; 0] on S */
     int64_t *mod;        /* mod[p]: value of napply when Ebar(:, p) last changed */
     int64_t napply;      /* number of updates composed */
@@ -57,8 +69,8 @@ void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y);
 void aug_cutmat_rhs(const aug_cutmat *m, double *f);
 /* ||K_t x - f_t|| / ||f_t|| (2-norms; absolute residual when f_t = 0). */
 double aug_cutmat_relres(aug_cutmat *m, const double *x);
-/* The part of relres on the rows where K_t differs from K0 (S): O(|S| (|S| +
-   row length)) instead of a product with all of K_t. */
+/* The part of relres on the rows where K_t differs from K0 (S): O(|S| row
+   length + nnz(Ebar)) instead of a product with all of K_t. */
 double aug_cutmat_relres_changed(aug_cutmat *m, const double *x);
 /* r = f_t - K_t x; returns ||r|| / ||f_t|| (absolute when f_t = 0). */
 double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r);
@@ -141,6 +153,21 @@ void aug_ldl_ltsolve(const aug_base *b, const int32_t *set, int64_t k, double *x
 /* x = K_b^-1 b (original order, full; work of size n). */
 void aug_ldl_solve_full(const aug_base *b, const double *rhs, double *x, double *work);
 
+/* ---- work arrays growing with the steps (mapped.c) --------------------- */
+
+/* p (old bytes, NULL when old = 0) as an array of n >= old bytes, contents
+   kept, page-aligned, mapped from the system (no copy on growth); NULL when
+   out of memory (p unchanged). Freed by aug_map_free with its size. */
+void *aug_map_grow(void *p, size_t old, size_t n);
+void aug_map_free(void *p, size_t n);
+/* a (cap x cap doubles, column-major, leading dim cap, from aug_map_grow or
+   NULL) grown in place to ncap x ncap, leading dim ncap, keeping its leading
+   keep x keep block (keep <= cap < ncap); NULL when out of memory. */
+double *aug_sq_grow(double *a, int64_t cap, int64_t ncap, int64_t keep);
+/* capacity for order need of a square array of capacity cap (>= need, grown
+   by a quarter at least, in multiples of 256; AUG_SCHUR_CAP0 at first) */
+int64_t aug_sq_cap(int64_t cap, int64_t need);
+
 /* ---- AMPS (paper 001) -------------------------------------------------- */
 
 /* V = L^-1 P H, one column per base DOF of S, each only over its etree
@@ -152,12 +179,13 @@ typedef struct aug_memo {
     int64_t *vt;         /* vt[c]: start of the tail of column c whose rows are
                             consecutive (the top of the tree, dense) */
     int32_t *vi;         /* permuted row indices (ascending: the etree path) */
-    double *vx;
+    double *vx;          /* values; vx and then vi share one aug_map_grow array */
     int64_t vnz, vcap;
     int32_t *col;        /* col[c]: position in S of memo column c */
     int32_t *cpos;       /* cpos[pos in S]: memo column or -1 (size pcap) */
     int64_t pcap;
-    double *G;           /* m x m symmetric, column-major, leading dim mcap */
+    double *G;           /* m x m symmetric, column-major, leading dim mcap
+                            (aug_sq_grow) */
     int use_cholmod;     /* 1: V by cholmod_solve2 with Bset (for comparison) */
     int64_t reach_new;   /* sum of path lengths computed in the last grow */
     int64_t m_new;
@@ -187,10 +215,10 @@ typedef struct aug_schur {
     unsigned char *act;  /* act[pos] */
     int64_t pcap;
     int32_t *gi;         /* gi[a]: memo column of A[a], -1 for a new DOF */
-    double *S2;          /* LU factors of S2, leading dim scap */
-    double *F;           /* S2 itself, leading dim scap */
-    double *Ga;          /* Gbar_AA, leading dim scap */
-    double *cs;          /* column sums of |S2| */
+    double *S2;          /* LU factors of S2, leading dim scap (aug_sq_grow);
+                            S2 itself is formed from the memo's G and Ebar_AA
+                            column by column where the factorization needs it */
+    double *cs;          /* column sums of |S2| (when rcond is estimated) */
     int *ipiv;
     int64_t scap;
     int64_t *ep;         /* Ebar_AA by columns: rows ei, values ex */
@@ -317,7 +345,11 @@ void aug_bg_free(aug_bg *bg);
 /* Start re-factoring K (taken) with load f (copied) in a thread; step is the
    step whose matrix K is. perm (may be NULL): a fill-reducing ordering of K to
    reuse (the old base's permutation extended by the DOFs added since), saving
-   CHOLMOD's ordering. amps (0: no, 1: own path solve, 2: cholmod_solve2
+   CHOLMOD's ordering while its fill stays within 10% of the fill of the
+   ordering last chosen (the first job's sets it); beyond that CHOLMOD orders
+   K anew (given, AMD, METIS: the least fill), so that the factors, which the
+   new DOFs placed last would fill more with every step, stay bounded.
+   amps (0: no, 1: own path solve, 2: cholmod_solve2
    reach): once factored, the thread also catches AMPS up with the updates
    pushed since the start (aug_bg_push): their composed update and the memo
    of V columns and H'K^-1H for the new base, so that the swap step does not
@@ -336,7 +368,9 @@ aug_base *aug_bg_join(aug_bg *bg, aug_err *e);
 /* After a successful join: the composed update of the queued steps relative
    to the new base into c (uninitialized on entry), and the AMPS state the
    thread prepared into a (freed or never initialized on entry; a fresh one
-   when the thread prepared none, with use_cholmod set as started). */
+   when the thread prepared none, with use_cholmod set as started). The memory
+   the caller freed with the old base and state is then given back to the
+   system (malloc_trim). */
 int aug_bg_take(aug_bg *bg, int64_t nb, aug_cum *c, aug_amps *a, aug_err *e);
 int32_t aug_bg_step(const aug_bg *bg);
 

@@ -11,11 +11,10 @@ void aug_memo_free(aug_memo *M)
 {
     free(M->vp);
     free(M->vt);
-    free(M->vi);
-    free(M->vx);
+    aug_map_free(M->vx, (size_t)M->vcap * (sizeof *M->vx + sizeof *M->vi)); /* and vi */
     free(M->col);
     free(M->cpos);
-    free(M->G);
+    aug_map_free(M->G, (size_t)M->mcap * (size_t)M->mcap * sizeof *M->G);
     int uc = M->use_cholmod;
     memset(M, 0, sizeof *M);
     M->use_cholmod = uc;
@@ -24,8 +23,7 @@ void aug_memo_free(aug_memo *M)
 static int grow_cols(aug_memo *M, int64_t need)
 {
     if (need <= M->mcap) return 0;
-    int64_t nc = M->mcap ? M->mcap : AUG_SCHUR_CAP0; /* reserved large: see amps_schur.c */
-    while (nc < need) nc *= 2;
+    int64_t nc = aug_sq_cap(M->mcap, need);
     int64_t *vp = aug_realloc(M->vp, (size_t)(nc + 1) * sizeof *vp);
     if (!vp) return -1;
     M->vp = vp;
@@ -36,10 +34,8 @@ static int grow_cols(aug_memo *M, int64_t need)
     int32_t *col = aug_realloc(M->col, (size_t)nc * sizeof *col);
     if (!col) return -1;
     M->col = col;
-    double *G = aug_regrow(NULL, 0, (size_t)nc * (size_t)nc * sizeof *G); /* huge pages */
+    double *G = aug_sq_grow(M->G, M->mcap, nc, M->m);
     if (!G) return -1;
-    for (int64_t j = 0; j < M->m; j++) memcpy(G + j * nc, M->G + j * M->mcap, (size_t)M->m * sizeof *G);
-    free(M->G);
     M->G = G;
     M->mcap = nc;
     return 0;
@@ -54,13 +50,13 @@ static int grow_vals(aug_memo *M, int64_t need, int64_t n)
     int64_t r0 = 64 * n < (1 << 24) ? 64 * n : (1 << 24);
     int64_t nc = M->vcap ? M->vcap : (r0 > 4096 ? r0 : 4096);
     while (nc < need) nc *= 2;
-    /* huge pages: at a million entries a doubling faults in 24 MB */
-    size_t used = (size_t)(M->m ? M->vp[M->m] : 0);
-    int32_t *vi = aug_regrow(M->vi, used * sizeof *vi, (size_t)nc * sizeof *vi);
-    if (!vi) return -1;
-    M->vi = vi;
-    double *vx = aug_regrow(M->vx, used * sizeof *vx, (size_t)nc * sizeof *vx);
+    /* one mapping: vx, then vi (moved up to its new place) */
+    size_t used = (size_t)(M->m ? M->vp[M->m] : 0), w = sizeof *M->vx + sizeof *M->vi;
+    double *vx = aug_map_grow(M->vx, (size_t)M->vcap * w, (size_t)nc * w);
     if (!vx) return -1;
+    int32_t *vi = (int32_t *)(vx + nc);
+    memmove(vi, vx + M->vcap, used * sizeof *vi);
+    M->vi = vi;
     M->vx = vx;
     M->vcap = nc;
     return 0;

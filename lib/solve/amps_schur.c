@@ -8,7 +8,10 @@
    positions. Columns before the first changed one keep their pivots and L, U
    entries; the new rows are solved against U11; the trailing block gets the
    usual right-looking block update and a fresh partial-pivoting LU. The cut
-   front moves on, so the re-eliminated block stays a small part of S2. */
+   front moves on, so the re-eliminated block stays a small part of S2. S2
+   itself is not kept beside its factors: the columns the update needs are
+   formed again from the memo's H'K^-1H and Ebar_AA (s2_column), so that
+   only the LU grows with the square of |A|. */
 #include <cblas.h>
 #include <lapacke.h>
 #include <math.h>
@@ -32,9 +35,7 @@ void aug_schur_free(aug_schur *s)
     free(s->A);
     free(s->act);
     free(s->gi);
-    free(s->S2);
-    free(s->F);
-    free(s->Ga);
+    aug_map_free(s->S2, (size_t)s->scap * (size_t)s->scap * sizeof *s->S2);
     free(s->cs);
     free(s->ipiv);
     free(s->ep);
@@ -61,10 +62,9 @@ static int activate(aug_schur *s, const aug_memo *M, const aug_cum *c)
     }
     for (int64_t p = 0; p < c->ns; p++) {
         if (s->act[p] || c->mod[p] <= s->stamp) continue;
-        const double *Ep = c->E + p * c->cap;
-        int64_t i = 0;
-        while (i < c->ns && Ep[i] == 0) i++;
-        if (i == c->ns) continue;
+        int32_t t = 0;
+        while (t < c->E[p].nz && c->E[p].x[t] == 0) t++;
+        if (t == c->E[p].nz) continue;
         if (s->na == s->acap) {
             int64_t nc = s->acap ? 2 * s->acap : 64;
             int32_t *A = aug_realloc(s->A, (size_t)nc * sizeof *A);
@@ -82,50 +82,71 @@ static int activate(aug_schur *s, const aug_memo *M, const aug_cum *c)
     return 0;
 }
 
-/* square arrays of order at least need, keeping the leading n0 (F, Ga) and
-   nlu (LU) blocks */
-static int grow(aug_schur *s, int64_t need, int64_t n0)
+/* the LU array of order at least need, keeping the leading nlu block */
+static int grow(aug_schur *s, int64_t need)
 {
     if (need <= s->scap) return 0;
-    /* reserved large from the start: untouched pages cost nothing, while a
-       doubling at 512 positions copied and faulted in 3 x 8 MB in one step
-       (24 ms on brick N=16) */
-    int64_t nc = s->scap ? 2 * s->scap : AUG_SCHUR_CAP0;
-    while (nc < need) nc *= 2;
-    /* huge pages: 3 x 8 MB at 1024 positions would fault in 4 KiB at a time */
-    size_t bytes = (size_t)nc * (size_t)nc * sizeof(double);
-    double *F = aug_regrow(NULL, 0, bytes), *Ga = aug_regrow(NULL, 0, bytes);
-    double *LU = aug_regrow(NULL, 0, bytes);
+    int64_t nc = aug_sq_cap(s->scap, need);
     double *cs = aug_realloc(s->cs, (size_t)nc * sizeof *cs);
     if (cs) s->cs = cs;
     int *ipiv = aug_realloc(s->ipiv, (size_t)nc * sizeof *ipiv);
     if (ipiv) s->ipiv = ipiv;
-    if (!F || !Ga || !LU || !cs || !ipiv) {
-        free(F), free(Ga), free(LU);
-        return -1;
-    }
-    for (int64_t j = 0; j < n0; j++) {
-        memcpy(F + j * nc, s->F + j * s->scap, (size_t)n0 * sizeof *F);
-        memcpy(Ga + j * nc, s->Ga + j * s->scap, (size_t)n0 * sizeof *Ga);
-    }
-    for (int64_t j = 0; j < s->nlu; j++)
-        memcpy(LU + j * nc, s->S2 + j * s->scap, (size_t)s->nlu * sizeof *LU);
-    free(s->F), free(s->Ga), free(s->S2);
-    s->F = F, s->Ga = Ga, s->S2 = LU;
+    if (!cs || !ipiv) return -1;
+    double *LU = aug_sq_grow(s->S2, s->scap, nc, s->nlu);
+    if (!LU) return -1;
+    s->S2 = LU;
     s->scap = nc;
     return 0;
 }
 
-/* Gbar(A[r], A[q]) = blkdiag(H'K^-1H, I_k) (paper 001 eq. 3.7: Kbar^-1 =
-   blkdiag(K^-1, I)); 0 between a base and a new DOF */
-static double gbar(const aug_schur *s, const aug_memo *M, int64_t r, int64_t q)
+/* out[r] = S2(r, b) for r0 <= r < na (paper 001 eq. 3.21 on A): S2 = I -
+   Gbar_AA Ebar_AA, Gbar = blkdiag(H'K^-1H, I_k) (eq. 3.7: Kbar^-1 =
+   blkdiag(K^-1, I)), 0 between a base and a new DOF. Row by row: row r of
+   H'K^-1H is the memo's column gi[r] (G is symmetric), read where column b
+   of Ebar_AA has entries, subtracted in the order of its list. wq, wv:
+   workspace of the list's length. */
+static void s2_column(const aug_schur *s, const aug_memo *M, int64_t b, int64_t r0, double *out,
+                      int32_t *wq, double *wv)
 {
-    int32_t a = s->gi[r], b = s->gi[q];
-    if (a >= 0 && b >= 0) return M->G[a + (int64_t)b * M->mcap];
-    return a < 0 && b < 0 && r == q;
+    int64_t nq = 0, t0 = s->ep[b], t1 = s->ep[b + 1];
+    for (int64_t t = t0; t < t1; t++) {
+        int32_t gq = s->gi[s->ei[t]];
+        if (gq >= 0) wq[nq] = gq, wv[nq++] = s->ex[t];
+    }
+    for (int64_t r = r0; r < s->na; r++) {
+        int32_t a = s->gi[r];
+        double acc = r == b;
+        if (a >= 0) {
+            const double *Gr = M->G + (int64_t)a * M->mcap;
+            for (int64_t k = 0; k < nq; k++) acc -= wv[k] * Gr[wq[k]];
+        }
+        out[r] = acc;
+    }
+    for (int64_t t = t0; t < t1; t++) { /* a new DOF q: Gbar(:, q) = e_q */
+        int32_t q = s->ei[t];
+        if (s->gi[q] < 0 && q >= r0) out[q] -= s->ex[t];
+    }
 }
 
-/* Ebar_AA column lists: changed columns (chg) rescanned, the others kept */
+/* workspace for s2_column: the longest list of Ebar_AA */
+typedef struct s2_work {
+    int32_t *wq;
+    double *wv;
+} s2_work;
+
+static int s2_work_new(const aug_schur *s, s2_work *w)
+{
+    int64_t len = 1;
+    for (int64_t b = 0; b < s->na; b++)
+        if (s->ep[b + 1] - s->ep[b] > len) len = s->ep[b + 1] - s->ep[b];
+    w->wq = aug_malloc((size_t)len * sizeof *w->wq);
+    w->wv = aug_malloc((size_t)len * sizeof *w->wv);
+    return w->wq && w->wv ? 0 : -1;
+}
+
+/* Ebar_AA column lists, rows increasing in activation order: changed columns
+   (chg) gathered anew from Ebar's columns through qa (position -> index in A),
+   the others kept */
 static int elists(aug_schur *s, const aug_cum *c, const unsigned char *chg, int64_t n0)
 {
     int64_t n1 = s->na, nz = 0;
@@ -133,11 +154,17 @@ static int elists(aug_schur *s, const aug_cum *c, const unsigned char *chg, int6
     int64_t cap = s->ecap > 256 ? s->ecap : 256;
     int32_t *ei = aug_malloc((size_t)cap * sizeof *ei);
     double *ex = aug_malloc((size_t)cap * sizeof *ex);
-    if (!ep || !ei || !ex) goto nomem;
+    int32_t *qa = aug_malloc((size_t)(c->ns + 1) * sizeof *qa);
+    if (!ep || !ei || !ex || !qa) goto nomem;
+    for (int64_t p = 0; p < c->ns; p++) qa[p] = -1;
+    for (int64_t q = 0; q < n1; q++) qa[s->A[q]] = (int32_t)q;
     for (int64_t b = 0; b < n1; b++) {
+        int32_t pb = s->A[b];
+        const aug_ecol *E = &c->E[pb];
+        int64_t len = b < n0 && !chg[b] ? s->ep[b + 1] - s->ep[b] : E->nz;
         ep[b] = nz;
-        if (nz + n1 > cap) {
-            while (nz + n1 > cap) cap *= 2;
+        if (nz + len > cap) {
+            while (nz + len > cap) cap *= 2;
             int32_t *i2 = aug_realloc(ei, (size_t)cap * sizeof *i2);
             if (!i2) goto nomem;
             ei = i2;
@@ -146,33 +173,37 @@ static int elists(aug_schur *s, const aug_cum *c, const unsigned char *chg, int6
             ex = x2;
         }
         if (b < n0 && !chg[b]) {
-            int64_t len = s->ep[b + 1] - s->ep[b];
             memcpy(ei + nz, s->ei + s->ep[b], (size_t)len * sizeof *ei);
             memcpy(ex + nz, s->ex + s->ep[b], (size_t)len * sizeof *ex);
             nz += len;
             continue;
         }
-        const double *Eb = c->E + (int64_t)s->A[b] * c->cap;
-        for (int64_t q = 0; q < n1; q++) {
-            double v = Eb[s->A[q]];
-            if (v != 0) ei[nz] = (int32_t)q, ex[nz++] = v;
+        for (int32_t t = 0; t < E->nz; t++) {
+            int32_t q = qa[E->i[t]];
+            double v = E->x[t];
+            if (q < 0 || v == 0) continue;
+            /* insertion by row: the column is short */
+            int64_t k = nz++;
+            while (k > ep[b] && ei[k - 1] > q) ei[k] = ei[k - 1], ex[k] = ex[k - 1], k--;
+            ei[k] = q, ex[k] = v;
         }
     }
     ep[n1] = nz;
+    free(qa);
     free(s->ep), free(s->ei), free(s->ex);
     s->ep = ep, s->ei = ei, s->ex = ex, s->ecap = cap;
     s->nnzE = nz;
     return 0;
 nomem:
-    free(ep), free(ei), free(ex);
+    free(ep), free(ei), free(ex), free(qa);
     return -1;
 }
 
 /* P S2 = L U from scratch (LAPACK dgetrf, partial pivoting) into S2; k0 = 0 */
-static int full_lu(aug_schur *s, int64_t n1)
+static int full_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t n1)
 {
     int64_t ld = s->scap;
-    for (int64_t b = 0; b < n1; b++) memcpy(s->S2 + b * ld, s->F + b * ld, (size_t)n1 * sizeof *s->S2);
+    for (int64_t b = 0; b < n1; b++) s2_column(s, M, b, 0, s->S2 + b * ld, W->wq, W->wv);
     s->k0 = 0;
     return LAPACKE_dgetrf(LAPACK_COL_MAJOR, (lapack_int)n1, (lapack_int)n1, s->S2, (lapack_int)ld,
                           s->ipiv);
@@ -182,7 +213,8 @@ static int full_lu(aug_schur *s, int64_t n1)
    (right-looking block LU, [GVL] ch. 3): new rows L21 = S2(n0:n1, 0:k0) U11^-1,
    U12 = L11^-1 P S2(0:k0, k0:n1), trailing S2_22 - L21 U12 by dgetrf, its pivots
    applied to L21. -2 when a new multiplier exceeds GROWTH_MAX (caller: full_lu). */
-static int update_lu(aug_schur *s, int64_t n0, int64_t n1, int64_t k0)
+static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t n0, int64_t n1,
+                     int64_t k0)
 {
     int64_t ld = s->scap, nt = n1 - k0, nn = n1 - n0;
     double *LU = s->S2;
@@ -191,15 +223,14 @@ static int update_lu(aug_schur *s, int64_t n0, int64_t n1, int64_t k0)
     for (int64_t i = n0 - 1; i >= k0; i--)
         if (ipiv[i] - 1 != i) cblas_dswap((int)k0, LU + i, (int)ld, LU + ipiv[i] - 1, (int)ld);
     if (nn > 0) {
-        for (int64_t b = 0; b < k0; b++)
-            memcpy(LU + n0 + b * ld, s->F + n0 + b * ld, (size_t)nn * sizeof *LU);
+        for (int64_t b = 0; b < k0; b++) s2_column(s, M, b, n0, LU + b * ld, W->wq, W->wv);
         cblas_dtrsm(CblasColMajor, CblasRight, CblasUpper, CblasNoTrans, CblasNonUnit, (int)nn,
                     (int)k0, 1.0, LU, (int)ld, LU + n0, (int)ld);
         for (int64_t b = 0; b < k0; b++)
             for (int64_t r = n0; r < n1; r++)
                 if (!(fabs(LU[r + b * ld]) <= GROWTH_MAX)) return -2;
     }
-    for (int64_t b = k0; b < n1; b++) memcpy(LU + b * ld, s->F + b * ld, (size_t)n1 * sizeof *LU);
+    for (int64_t b = k0; b < n1; b++) s2_column(s, M, b, 0, LU + b * ld, W->wq, W->wv);
     for (int64_t i = 0; i < k0; i++)
         if (ipiv[i] - 1 != i)
             cblas_dswap((int)nt, LU + i + k0 * ld, (int)ld, LU + ipiv[i] - 1 + k0 * ld, (int)ld);
@@ -219,10 +250,31 @@ static int update_lu(aug_schur *s, int64_t n0, int64_t n1, int64_t k0)
     return info > 0 ? (int)(info + k0) : 0;
 }
 
+/* cs[b] = sum_r |S2(r, b)| (for the 1-norm of S2): changed columns anew, the
+   others extended by their new rows n0..na */
+static int colsums(aug_schur *s, const aug_memo *M, const s2_work *W, const unsigned char *chg,
+                   int64_t n0)
+{
+    int64_t n1 = s->na;
+    double *col = aug_malloc((size_t)(n1 + 1) * sizeof *col);
+    if (!col) return -1;
+    for (int64_t b = 0; b < n1; b++) {
+        int64_t r0 = chg[b] ? 0 : n0;
+        if (r0 == n1) continue;
+        s2_column(s, M, b, r0, col, W->wq, W->wv);
+        double cs = r0 ? s->cs[b] : 0;
+        for (int64_t r = r0; r < n1; r++) cs += fabs(col[r]);
+        s->cs[b] = cs;
+    }
+    free(col);
+    return 0;
+}
+
 /* S2 = I - Gbar_AA Ebar_AA (paper 001 eq. 3.21 on A, table 1 step 3) brought up to
-   date with c: the changed columns and the new rows formed, the LU updated from
-   the first changed column (update_lu, else full_lu). singular: LU breakdown,
-   rcond (dgecon, 1-norm) < rcond_min when estimated, or det S2 < 0. */
+   date with c: new positions activated, Ebar_AA's changed columns listed, the LU
+   updated from the first changed column (update_lu, else full_lu), the column
+   sums of |S2| kept when rcond is estimated. singular: LU breakdown, rcond
+   (dgecon, 1-norm) < rcond_min when estimated, or det S2 < 0. */
 int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double rcond_min,
                      aug_err *e)
 {
@@ -234,9 +286,9 @@ int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double r
     if (activate(s, M, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (S2)");
     int64_t n1 = s->na, ld;
     unsigned char *chg = NULL;
+    s2_work W = {0};
     if (n1 == 0) goto done;
-    if (grow(s, n1, n0)) goto nomem;
-    ld = s->scap;
+    if (grow(s, n1)) goto nomem;
     chg = aug_malloc((size_t)n1);
     if (!chg) goto nomem;
     int64_t k0 = s->nlu == n0 ? n0 : 0;
@@ -244,30 +296,17 @@ int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double r
         chg[b] = b >= n0 || c->mod[s->A[b]] > s->stamp;
         if (chg[b] && b < k0) k0 = b;
     }
-    /* Gbar_AA = blkdiag(H'K^-1H, I) on A: the new rows and columns */
-    for (int64_t b = 0; b < n1; b++)
-        for (int64_t r = b < n0 ? n0 : 0; r < n1; r++) s->Ga[r + b * ld] = gbar(s, M, r, b);
-    if (elists(s, c, chg, n0)) goto nomem;
-    /* S2 = I - Gbar_AA Ebar_AA: changed columns anew, the others in the new rows */
-    for (int64_t b = 0; b < n1; b++) {
-        double *Fb = s->F + b * ld;
-        int64_t r0 = chg[b] ? 0 : n0;
-        if (r0 == n1) continue;
-        for (int64_t r = r0; r < n1; r++) Fb[r] = r == b;
-        for (int64_t t = s->ep[b]; t < s->ep[b + 1]; t++) {
-            const double *Gq = s->Ga + (int64_t)s->ei[t] * ld;
-            double v = s->ex[t];
-            for (int64_t r = r0; r < n1; r++) Fb[r] -= v * Gq[r];
-        }
-        double cs = r0 ? s->cs[b] : 0;
-        for (int64_t r = r0; r < n1; r++) cs += fabs(Fb[r]);
-        s->cs[b] = cs;
-    }
+    if (elists(s, c, chg, n0) || s2_work_new(s, &W)) goto nomem;
+    if ((s->want_rcond || rcond_min > 0) && colsums(s, M, &W, chg, n0)) goto nomem;
     free(chg);
     chg = NULL;
-    if (k0 == n1 && s->nlu == n1) goto done; /* nothing changed */
-    int info = k0 > 0 ? update_lu(s, n0, n1, k0) : full_lu(s, n1);
-    if (info == -2) info = full_lu(s, n1);
+    if (k0 == n1 && s->nlu == n1) { /* nothing changed */
+        free(W.wq), free(W.wv);
+        goto done;
+    }
+    int info = k0 > 0 ? update_lu(s, M, &W, n0, n1, k0) : full_lu(s, M, &W, n1);
+    if (info == -2) info = full_lu(s, M, &W, n1);
+    free(W.wq), free(W.wv);
     if (info < 0) return aug_err_set(e, AUG_EUSAGE, -1, "UPDT", "dgetrf: argument %d", -info);
     s->stamp = c->napply;
     if (info > 0) {
@@ -311,6 +350,7 @@ done:
     return 0;
 nomem:
     free(chg);
+    free(W.wq), free(W.wv);
     aug_schur_free(s);
     return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (S2 %lld)", (long long)n1);
 }

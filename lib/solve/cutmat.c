@@ -18,9 +18,10 @@ int aug_cum_init(aug_cum *c, int64_t nb, aug_err *e)
 
 void aug_cum_free(aug_cum *c)
 {
+    for (int64_t p = 0; p < c->ns; p++) free(c->E[p].i), free(c->E[p].x);
+    free(c->E);
     free(c->S);
     free(c->pos);
-    free(c->E);
     free(c->dF);
     free(c->mod);
     memset(c, 0, sizeof *c);
@@ -34,7 +35,7 @@ int64_t aug_cum_morig(const aug_cum *c)
     return k;
 }
 
-/* capacity of S (and the dense Ebar) at least need */
+/* capacity of S (and of Ebar's column table) at least need */
 static int grow_s(aug_cum *c, int64_t need)
 {
     if (need <= c->cap) return 0;
@@ -49,15 +50,43 @@ static int grow_s(aug_cum *c, int64_t need)
     int64_t *mod = aug_realloc(c->mod, (size_t)nc * sizeof *mod);
     if (!mod) return -1;
     c->mod = mod;
-    double *E = aug_regrow(NULL, 0, (size_t)nc * (size_t)nc * sizeof *E); /* huge pages */
+    aug_ecol *E = aug_realloc(c->E, (size_t)nc * sizeof *E);
     if (!E) return -1;
-    for (int64_t j = 0; j < nc; j++) memset(E + j * nc, 0, (size_t)nc * sizeof *E);
-    for (int64_t j = 0; j < c->ns; j++)
-        memcpy(E + j * nc, c->E + j * c->cap, (size_t)c->ns * sizeof *E);
-    free(c->E);
     c->E = E;
     c->cap = nc;
     return 0;
+}
+
+/* the entry Ebar(r, p), inserted as 0 when absent (column p kept increasing);
+   NULL when out of memory */
+static double *entry(aug_cum *c, int32_t p, int32_t r)
+{
+    aug_ecol *e = &c->E[p];
+    int32_t lo = 0, hi = e->nz;
+    while (lo < hi) {
+        int32_t mid = lo + (hi - lo) / 2;
+        if (e->i[mid] < r) lo = mid + 1;
+        else hi = mid;
+    }
+    if (lo < e->nz && e->i[lo] == r) return e->x + lo;
+    if (e->nz == e->cap) {
+        int32_t nc = e->cap ? 2 * e->cap : 16;
+        int32_t *i2 = aug_realloc(e->i, (size_t)nc * sizeof *i2);
+        if (!i2) return NULL;
+        e->i = i2;
+        double *x2 = aug_realloc(e->x, (size_t)nc * sizeof *x2);
+        if (!x2) return NULL;
+        e->x = x2;
+        e->cap = nc;
+    }
+    memmove(e->i + lo + 1, e->i + lo, (size_t)(e->nz - lo) * sizeof *e->i);
+    memmove(e->x + lo + 1, e->x + lo, (size_t)(e->nz - lo) * sizeof *e->x);
+    e->i[lo] = r;
+    e->x[lo] = 0;
+    e->nz++;
+    c->nnzE++;
+    if (e->nz > c->enzmax) c->enzmax = e->nz;
+    return e->x + lo;
 }
 
 static int grow_pos(aug_cum *c, int64_t need)
@@ -105,24 +134,32 @@ int aug_cum_apply(aug_cum *c, const aug_update *u, aug_err *e)
             c->S[p] = idx;
             c->dF[p] = 0;
             c->mod[p] = 0;
-            for (int64_t q = 0; q <= p; q++) c->E[q + p * c->cap] = c->E[p + q * c->cap] = 0;
+            c->E[p] = (aug_ecol){0};
         }
         map[i] = c->pos[idx];
     }
     c->napply++;
     for (int64_t j = 0; j < s; j++) {
-        double *Ej = c->E + (int64_t)map[j] * c->cap;
         for (int64_t i = 0; i < s; i++)
             if (u->E[i + j * s] != 0) {
-                Ej[map[i]] += u->E[i + j * s];
+                double *v = entry(c, map[j], map[i]);
+                if (!v) goto nomem;
+                *v += u->E[i + j * s];
                 c->mod[map[i]] = c->mod[map[j]] = c->napply;
             }
-        if (j >= m) Ej[map[j]] += 1.0, c->mod[map[j]] = c->napply;
+        if (j >= m) {
+            double *v = entry(c, map[j], map[j]);
+            if (!v) goto nomem;
+            *v += 1.0, c->mod[map[j]] = c->napply;
+        }
         c->dF[map[j]] += u->df[j];
     }
     c->n += k;
     free(map);
     return 0;
+nomem:
+    free(map);
+    return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
 }
 
 int aug_cutmat_init(aug_cutmat *m, const cholmod_sparse *K0, const double *f0,
@@ -171,8 +208,8 @@ void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y)
     for (int64_t q = 0; q < c->ns; q++) {
         double xq = x[c->S[q]];
         if (xq == 0) continue;
-        const double *Eq = c->E + q * c->cap;
-        for (int64_t p = 0; p < c->ns; p++) y[c->S[p]] -= Eq[p] * xq;
+        const aug_ecol *E = &c->E[q];
+        for (int32_t t = 0; t < E->nz; t++) y[c->S[E->i[t]]] -= E->x[t] * xq;
     }
 }
 
@@ -231,8 +268,8 @@ double aug_cutmat_relres_changed(aug_cutmat *m, const double *x)
             for (int t = Ap[i]; t < Ap[i + 1]; t++) k += Ax[t] * x[Ai[t]]; /* row i = column i */
         else
             k = x[i];
-        const double *Ep = c->E + p * c->cap; /* row p of the symmetric Ebar */
-        for (int64_t q = 0; q < c->ns; q++) k -= Ep[q] * x[c->S[q]];
+        const aug_ecol *E = &c->E[p]; /* column p: row p of the symmetric Ebar */
+        for (int32_t t = 0; t < E->nz; t++) k -= E->x[t] * x[c->S[E->i[t]]];
         rr += (f[i] - k) * (f[i] - k);
     }
     return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
@@ -251,14 +288,15 @@ double aug_cutmat_relres(aug_cutmat *m, const double *x)
     return aug_cutmat_residual(m, x, m->rwork);
 }
 
-/* bound on the entries of a column of K_t: the longest column of K_0 plus |S| */
+/* bound on the entries of a column of K_t: the longest column of K_0, the
+   longest of Ebar and the diagonal */
 int64_t aug_cutmat_colmax(const aug_cutmat *m)
 {
     int64_t mx = 1;
     const int *Ap = m->K0->p;
     for (int64_t j = 0; j < m->n0; j++)
         if (Ap[j + 1] - Ap[j] > mx) mx = Ap[j + 1] - Ap[j];
-    return mx + m->cum.ns;
+    return mx + m->cum.enzmax + 1;
 }
 
 /* column j of K_t = Kbar(:, j) - P_S Ebar(:, pos(j)) (both triangles), rows
@@ -283,21 +321,28 @@ int64_t aug_cutmat_column(const aug_cutmat *m, int64_t j, int32_t *idx, double *
         for (int k = Ap[j]; k < Ap[j + 1]; k++) scratch[Ai[k]] = Ax[k];
     else
         scratch[j] = 1.0;
-    const double *Ej = c->E + pj * c->cap;
-    for (int64_t p = 0; p < c->ns; p++) scratch[c->S[p]] -= Ej[p];
-    /* gather: unchanged rows of K0's column, then the S rows; sort */
-    if (j < m->n0)
+    const aug_ecol *E = &c->E[pj];
+    for (int32_t t = 0; t < E->nz; t++) scratch[c->S[E->i[t]]] -= E->x[t];
+    /* gather: unchanged rows of K0's column, then its rows in S, Ebar's rows
+       and the diagonal where they did not cancel; sort */
+    if (j < m->n0) {
         for (int k = Ap[j]; k < Ap[j + 1]; k++) {
             int i = Ai[k];
             if (c->pos[i] < 0) idx[nz] = i, val[nz++] = scratch[i], scratch[i] = 0;
         }
-    for (int64_t p = 0; p < c->ns; p++) {
-        int32_t i = c->S[p];
+        for (int k = Ap[j]; k < Ap[j + 1]; k++) {
+            int i = Ai[k];
+            if (scratch[i] != 0) idx[nz] = i, val[nz++] = scratch[i];
+            scratch[i] = 0;
+        }
+    }
+    for (int32_t t = 0; t < E->nz; t++) {
+        int32_t i = c->S[E->i[t]];
         if (scratch[i] != 0) idx[nz] = i, val[nz++] = scratch[i];
         scratch[i] = 0;
     }
-    if (j < m->n0)
-        for (int k = Ap[j]; k < Ap[j + 1]; k++) scratch[Ai[k]] = 0;
+    if (scratch[j] != 0) idx[nz] = (int32_t)j, val[nz++] = scratch[j];
+    scratch[j] = 0;
     /* insertion sort by row (columns are short) */
     for (int64_t a = 1; a < nz; a++) {
         int32_t ti = idx[a];
@@ -316,7 +361,7 @@ cholmod_sparse *aug_cutmat_sparse(const aug_cutmat *m, int64_t pad, cholmod_comm
     const aug_cum *c = &m->cum;
     int64_t n = c->n, N = n + pad;
     int64_t cmax = aug_cutmat_colmax(m);
-    int64_t nzmax = (int64_t)((int *)m->K0->p)[m->n0] / 2 + m->n0 + c->ns * c->ns / 2 + c->ns + N;
+    int64_t nzmax = (int64_t)((int *)m->K0->p)[m->n0] / 2 + m->n0 + c->nnzE / 2 + c->ns + N;
     cholmod_sparse *A = cholmod_allocate_sparse((size_t)N, (size_t)N, (size_t)nzmax, 1, 1, 1,
                                                 CHOLMOD_REAL, cm);
     int32_t *idx = aug_malloc((size_t)cmax * sizeof *idx);

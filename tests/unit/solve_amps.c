@@ -1,6 +1,9 @@
 /* AMPS against fresh CHOLMOD solves over random cut / constraint / load
    sequences; V columns by the own path solve and by cholmod_solve2 agree; the
-   output-set closure solve equals the full solve on those DOFs. */
+   output-set closure solve equals the full solve on those DOFs; the cut
+   matrix of the composed sparse update equals K_t assembled densely; the
+   growing work arrays keep their contents. */
+#include <stdint.h>
 #include "t.h"
 #include "solve_gen.h"
 
@@ -284,6 +287,104 @@ static void amps_singular_step(void)
     fix_close(&f);
 }
 
+/* the cut matrix from K_0 and the composed sparse Ebar equals K_t assembled
+   from scratch: every column (rows increasing, nothing but round-off
+   between them), K_t x, and the relres on the changed rows */
+static void cutmat_matches_dense(void)
+{
+    fixture f;
+    fix_open(&f, 4, 3, 5, 1.0, 61);
+    aug_cutmat m;
+    T_CHECK(aug_cutmat_init(&m, f.K0, f.g.f, &cm, &f.e) == 0, "%s", f.e.msg);
+    for (int t = 1; t <= 40; t++) {
+        gen_snap sn;
+        gen_snapshot(&f.g, &sn);
+        random_step(&f.g, f.r, 2, 1);
+        gen_assemble(&f.g);
+        aug_update u;
+        gen_diff(&f.g, sn.K, sn.ld, sn.f, sn.n, t, &u);
+        gen_snap_free(&sn);
+        T_CHECK(aug_cutmat_apply(&m, &u, &f.e) == 0, "step %d: %s", t, f.e.msg);
+        aug_update_free(&u);
+        int64_t n = f.g.n, ld = f.g.ncap, cmax = aug_cutmat_colmax(&m);
+        T_CHECK(aug_cutmat_n(&m) == n, "order %lld vs %lld", (long long)aug_cutmat_n(&m), (long long)n);
+        int32_t *idx = malloc((size_t)cmax * sizeof *idx);
+        double *val = malloc((size_t)cmax * sizeof *val), *scr = calloc((size_t)n, sizeof *scr);
+        double *col = calloc((size_t)n, sizeof *col), kmax = 0, worst = 0;
+        for (int64_t i = 0; i < n * ld; i++) kmax = fmax(kmax, fabs(f.g.K[i]));
+        for (int64_t j = 0; j < n; j++) {
+            int64_t nz = aug_cutmat_column(&m, j, idx, val, scr);
+            T_CHECK(nz <= cmax, "column %lld: %lld entries above colmax %lld", (long long)j, (long long)nz,
+                    (long long)cmax);
+            for (int64_t k = 0; k < nz; k++) {
+                T_CHECK(k == 0 || idx[k] > idx[k - 1], "column %lld: rows not increasing", (long long)j);
+                col[idx[k]] = val[k];
+            }
+            for (int64_t i = 0; i < n; i++) worst = fmax(worst, fabs(col[i] - f.g.K[i + j * ld]));
+            for (int64_t k = 0; k < nz; k++) col[idx[k]] = 0;
+            for (int64_t i = 0; i < n; i++) T_CHECK(scr[i] == 0, "scratch not zero on exit");
+        }
+        T_CHECK(worst <= 1e-12 * kmax, "step %d: column differs by %g (|K| %g)", t, worst, kmax);
+        double *x = malloc((size_t)n * sizeof *x), *y = malloc((size_t)n * sizeof *y), rs = 0, fs = 0;
+        for (int64_t i = 0; i < n; i++) x[i] = gsl_rng_uniform(f.r) - 0.5;
+        aug_cutmat_mult(&m, x, y);
+        double dy = 0;
+        for (int64_t i = 0; i < n; i++) {
+            double ki = 0;
+            for (int64_t j = 0; j < n; j++) ki += f.g.K[i + j * ld] * x[j];
+            dy = fmax(dy, fabs(y[i] - ki));
+            double ri = f.g.f[i] - ki;
+            fs += f.g.f[i] * f.g.f[i];
+            if (i < m.cum.pcap && m.cum.pos[i] >= 0) rs += ri * ri;
+        }
+        T_CHECK(dy <= 1e-11 * kmax, "step %d: K_t x differs by %g", t, dy);
+        double rc = aug_cutmat_relres_changed(&m, x), rd = sqrt(rs / fs);
+        T_CHECK(fabs(rc - rd) <= 1e-10 * rd, "step %d: relres on S %g vs %g", t, rc, rd);
+        free(idx), free(val), free(scr), free(col), free(x), free(y);
+    }
+    aug_cutmat_free(&m, &cm);
+    fix_close(&f);
+}
+
+/* the growing work arrays keep their contents: a square one its leading
+   block through several growths, a flat one its prefix */
+static void mapped_arrays_grow(void)
+{
+    int64_t cap = 0, keep = 0;
+    double *a = NULL;
+    for (int64_t need = 300; need <= 3000; need = need * 3 / 2) {
+        int64_t nc = aug_sq_cap(cap, need);
+        T_CHECK(need <= cap ? nc == cap : nc >= need && nc % 256 == 0 && nc >= cap + cap / 4,
+                "capacity %lld for %lld from %lld", (long long)nc, (long long)need, (long long)cap);
+        if (nc > cap) a = aug_sq_grow(a, cap, nc, keep);
+        T_CHECK(a != NULL, "grow to %lld", (long long)nc);
+        if (!a) return;
+        for (int64_t j = 0; j < keep; j++)
+            for (int64_t i = 0; i < keep; i++)
+                if (a[i + j * nc] != (double)(i + 10000 * j)) {
+                    T_CHECK(0, "(%lld, %lld) lost growing %lld -> %lld", (long long)i, (long long)j,
+                            (long long)cap, (long long)nc);
+                    j = keep;
+                    break;
+                }
+        cap = nc, keep = need;
+        for (int64_t j = 0; j < keep; j++)
+            for (int64_t i = 0; i < keep; i++) a[i + j * cap] = (double)(i + 10000 * j);
+    }
+    aug_map_free(a, (size_t)cap * (size_t)cap * sizeof *a);
+    size_t n0 = 1000, n1 = (size_t)9 << 20;
+    unsigned char *v = aug_map_grow(NULL, 0, n0);
+    T_CHECK(v && (uintptr_t)v % 4096 == 0, "flat array");
+    if (!v) return;
+    for (size_t i = 0; i < n0; i++) v[i] = (unsigned char)(i * 7);
+    v = aug_map_grow(v, n0, n1);
+    T_CHECK(v != NULL, "flat growth");
+    if (!v) return;
+    for (size_t i = 0; i < n0; i++) T_CHECK(v[i] == (unsigned char)(i * 7), "byte %zu lost", i);
+    v[n1 - 1] = 1;
+    aug_map_free(v, n1);
+}
+
 int main(void)
 {
     cholmod_start(&cm);
@@ -297,6 +398,8 @@ int main(void)
     T_RUN(amps_material_jump);
     T_RUN(amps_supernodal_backsolve);
     T_RUN(amps_hundreds_of_steps);
+    T_RUN(cutmat_matches_dense);
+    T_RUN(mapped_arrays_grow);
     cholmod_finish(&cm);
     T_EXIT();
 }

@@ -2,7 +2,8 @@
    rowupdate, pcg) against fresh CHOLMOD solves over random cut sequences;
    background swaps give the same fields; iterative refinement is counted;
    a singular step is reported by every method; a failed background
-   re-factorization is an error unless a method already reported its step. */
+   re-factorization is an error unless a method already reported its step;
+   a background job orders K anew when the given ordering fills too much. */
 #include "t.h"
 #include "solve_gen.h"
 
@@ -296,6 +297,66 @@ static void background_failure_reported(void)
     gsl_rng_free(r);
 }
 
+/* nnz(L) of a base's simplicial factor */
+static int64_t base_fill(const aug_base *b)
+{
+    int64_t nz = 0;
+    for (int64_t j = 0; j < b->n; j++) nz += b->Lnz[j];
+    return nz;
+}
+
+/* a background job whose given ordering fills L beyond a tenth more than the
+   last job's is ordered anew by CHOLMOD: the factor of a random ordering is
+   not the one kept, and its solution is the same */
+static void background_reorders_on_fill(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 81);
+    gen g;
+    gen_init(&g, 4, 4, 6, 1.0, r);
+    int64_t n = g.n;
+    cholmod_sparse *K = gen_sparse(&g, &cm);
+    cholmod_factor *L = cholmod_analyze(K, &cm);
+    int32_t *good = malloc((size_t)n * sizeof *good), *bad = malloc((size_t)n * sizeof *bad);
+    for (int64_t k = 0; k < n; k++) good[k] = ((int *)L->Perm)[k], bad[k] = (int32_t)k;
+    for (int64_t k = n - 1; k > 0; k--) {
+        int64_t q = (int64_t)gsl_rng_uniform_int(r, (unsigned long)(k + 1));
+        int32_t t = bad[k];
+        bad[k] = bad[q], bad[q] = t;
+    }
+    cholmod_free_factor(&L, &cm);
+    /* the random ordering's own fill */
+    int nm = cm.nmethods, ord = cm.method[0].ordering;
+    cm.nmethods = 1, cm.method[0].ordering = CHOLMOD_GIVEN;
+    L = cholmod_analyze_p(K, bad, NULL, 0, &cm);
+    double lnz_bad = cm.lnz;
+    cm.nmethods = nm, cm.method[0].ordering = ord;
+    cholmod_free_factor(&L, &cm);
+    cholmod_free_sparse(&K, &cm);
+    aug_bg *bg = aug_bg_new(1);
+    const int32_t *perm[2] = {good, bad};
+    int64_t fill[2] = {0, 0};
+    double a[2] = {0, 0};
+    for (int j = 0; j < 2 && bg; j++) {
+        aug_err e;
+        T_CHECK(aug_bg_start(bg, gen_sparse(&g, &cm), g.f, perm[j], j + 1, 0, &e) == 0, "start: %s", e.msg);
+        aug_base *b = aug_bg_join(bg, &e);
+        T_CHECK(b != NULL, "job %d: %s", j + 1, e.msg);
+        if (!b) break;
+        fill[j] = base_fill(b);
+        a[j] = b->a[n / 2];
+        aug_base_release(b, &cm);
+    }
+    T_CHECK(lnz_bad > 2 * fill[0], "the random ordering fills %g, the good one %lld", lnz_bad, (long long)fill[0]);
+    T_CHECK(fill[1] <= 1.1 * fill[0], "second job kept fill %lld (first %lld, random %g)", (long long)fill[1],
+            (long long)fill[0], lnz_bad);
+    T_CHECK(t_reldiff(a[1], a[0]) < 1e-10, "a_b %g vs %g", a[1], a[0]);
+    aug_bg_free(bg);
+    free(good), free(bad);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
 int main(void)
 {
     cholmod_start(&cm);
@@ -309,6 +370,7 @@ int main(void)
     T_RUN(singular_reported);
     T_RUN(background_singular_step);
     T_RUN(background_failure_reported);
+    T_RUN(background_reorders_on_fill);
     cholmod_finish(&cm);
     T_EXIT();
 }

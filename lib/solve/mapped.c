@@ -1,0 +1,115 @@
+/* Work arrays that grow with the steps (the memo's V and G, the LU of S2),
+   mapped from the system and given back to it when grown or freed: the tools
+   let malloc keep freed memory (lib/cli/tool.c), which kept every outgrown
+   copy resident, and a copy on growth held the old and the new array at once. */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include "aug_solve.h"
+
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define AUG_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define AUG_ASAN 1
+#endif
+/* under AddressSanitizer the arrays come from malloc, where it sees them */
+#if defined(__linux__) && defined(MREMAP_MAYMOVE) && defined(MREMAP_FIXED) && !defined(AUG_ASAN)
+#define MAPPED 1
+#else
+#define MAPPED 0
+#endif
+
+#define HUGE ((size_t)2 << 20)
+
+/* sizes in whole huge pages: the mappings start on huge-page boundaries, so
+   that the kernel can back them with huge pages and move them as such */
+static size_t whole(size_t n) { return (n + HUGE - 1) / HUGE * HUGE; }
+
+#if MAPPED
+/* a fresh mapping of n bytes (a multiple of HUGE) on a HUGE boundary */
+static void *map_aligned(size_t n)
+{
+    char *q = mmap(NULL, n + HUGE, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (q == MAP_FAILED) return NULL;
+    size_t head = (HUGE - (uintptr_t)q % HUGE) % HUGE;
+    if (head) munmap(q, head);
+    munmap(q + head + n, HUGE - head);
+    return q + head;
+}
+#endif
+
+/* p (old bytes; NULL when old = 0) as an array of n >= old bytes, its first old
+   bytes kept, on a huge-page boundary (huge pages asked for: dgetrs and the LU
+   update stride through S2 a column at a time, one 4 KiB page each without
+   them); grown in place or moved by the page tables (mremap), not copied.
+   NULL when out of memory (p is then unchanged). */
+void *aug_map_grow(void *p, size_t old, size_t n)
+{
+    n = whole(n ? n : 1), old = old ? whole(old) : 0;
+#if MAPPED
+    void *q;
+    if (old == n) return p;
+    if (old && (q = mremap(p, old, n, 0)) != MAP_FAILED) {
+        q = p; /* grown in place */
+    } else {
+        if (!(q = map_aligned(n))) return NULL;
+        if (old && mremap(p, old, old, MREMAP_MAYMOVE | MREMAP_FIXED, q) == MAP_FAILED) {
+            munmap(q, n);
+            return NULL;
+        }
+    }
+#ifdef MADV_HUGEPAGE
+    madvise(q, n, MADV_HUGEPAGE);
+#endif
+    return q;
+#else
+    void *q = NULL;
+    if (posix_memalign(&q, HUGE, n)) return NULL;
+    if (old) memcpy(q, p, old);
+    free(p);
+    return q;
+#endif
+}
+
+/* frees an array of aug_map_grow of n bytes (NULL: nothing) */
+void aug_map_free(void *p, size_t n)
+{
+    if (!p) return;
+#if MAPPED
+    munmap(p, whole(n ? n : 1));
+#else
+    (void)n;
+    free(p);
+#endif
+}
+
+/* a (cap x cap doubles, column-major, leading dimension cap; NULL when cap =
+   0) grown to ncap x ncap, leading dimension ncap, keeping its leading keep x
+   keep block: the array grows in place and the columns move up, the last
+   first (column j's new place starts at or after the end of column j - 1's
+   old one, as keep <= cap < ncap). NULL when out of memory (a unchanged). */
+double *aug_sq_grow(double *a, int64_t cap, int64_t ncap, int64_t keep)
+{
+    size_t old = (size_t)cap * (size_t)cap * sizeof *a;
+    double *q = aug_map_grow(a, old, (size_t)ncap * (size_t)ncap * sizeof *a);
+    if (!q) return NULL;
+    for (int64_t j = keep - 1; j > 0; j--)
+        memmove(q + j * ncap, q + j * cap, (size_t)keep * sizeof *q);
+    return q;
+}
+
+/* the capacity of a square array of order need grown from cap: AUG_SCHUR_CAP0
+   at first, then by a quarter at least, in multiples of 256 (huge pages are
+   touched column by column up to the capacity, so it stays within 5/4 of the
+   order) */
+int64_t aug_sq_cap(int64_t cap, int64_t need)
+{
+    if (need <= cap) return cap;
+    int64_t nc = cap ? cap + cap / 4 : AUG_SCHUR_CAP0;
+    if (nc < need) nc = need;
+    return (nc + 255) / 256 * 256;
+}
