@@ -162,6 +162,7 @@ int main(int argc, char **argv)
     aug_cutter c;
     aug_tool_check(&t, aug_cutter_init(&c, m, rp.nn0, rp.map0, rp.nfree0, &e), &e);
     c.policy = o.policy;
+    c.dyn = rp.dynamic ? &rp.dyn : NULL;
     c.pull = o.pull;
     aug_plane_cut pc;
     aug_path_cut pp;

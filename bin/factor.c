@@ -9,15 +9,22 @@
 
 static const char *synopsis =
     "factor [FILE] [--ordering auto|amd|metis] [--simplicial] [--threads N]\n"
-    "       [--mass] [--lumped-mass] [--no-factor] [--no-cond] [--cond-tol T] [--deflate] [-h]";
+    "       [--mass consistent|lumped] [--lumped-mass] [--no-factor] [--no-cond] [--cond-tol T]\n"
+    "       [--dynamic DT [--rayleigh ALPHA,BETA] [--integrator euler|newmark]] [--deflate] [-h]";
 
 static const char *help =
     "  FILE                  input stream (default: stdin)\n"
     "  --ordering auto|amd|metis   fill-reducing ordering (auto: CHOLMOD's choice)\n"
     "  --simplicial          simplicial LDL' factorization (default: supernodal)\n"
     "  --threads N           threads of CHOLMOD and OpenBLAS (default 1)\n"
-    "  --mass                also write the consistent mass matrix (KMAT which 1)\n"
+    "  --mass consistent|lumped  also write that mass matrix (KMAT which 1 or 2);\n"
+    "                        with --dynamic: the M of the integrator (default consistent)\n"
     "  --lumped-mass         also write the lumped mass matrix (KMAT which 2)\n"
+    "  --dynamic DT          implicit time stepping with step DT: factor the integrator's\n"
+    "                        A = M + a h D + b h^2 K instead of K (DYNP, KMAT which 3)\n"
+    "  --rayleigh ALPHA,BETA Rayleigh damping D = ALPHA M + BETA K (default 0,0)\n"
+    "  --integrator euler|newmark  backward Euler (default) or Newmark average\n"
+    "                        acceleration (trapezoidal)\n"
     "  --no-factor           do not write the FACT record\n"
     "  --no-cond             do not estimate cond(K) (no cOND record)\n"
     "  --cond-tol T          relative accuracy of the eigenvalue estimates (default 1e-4)\n"
@@ -27,8 +34,14 @@ static const char *help =
 typedef struct options {
     const char *file;
     int ordering, simplicial, threads, mass, lumped, no_factor, no_cond, deflate;
-    double cond_tol;
+    int nmass, ndyn, nray, nint, integrator;
+    double cond_tol, dt, rayleigh[2];
+    aug_dynp dyn;
 } options;
+
+static const aug_word masses[] = {{"consistent", AUG_MAT_M}, {"lumped", AUG_MAT_ML}, {NULL, 0}};
+static const aug_word integrators[] = {
+    {"euler", AUG_INT_EULER}, {"newmark", AUG_INT_NEWMARK}, {NULL, 0}};
 
 static const aug_word orderings[] = {
     {"auto", AUG_ORDER_AUTO}, {"amd", AUG_ORDER_AMD}, {"metis", AUG_ORDER_METIS}, {NULL, 0}};
@@ -45,13 +58,25 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_REAL("--cond-tol", &o->cond_tol, 0, 1, "a number in (0, 1)"),
          .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
         {AUG_OPT_FLAG("--simplicial", &o->simplicial)},
-        {AUG_OPT_FLAG("--mass", &o->mass)},
+        {AUG_OPT_CHOICE("--mass", &o->mass, masses, "consistent or lumped"), .given = &o->nmass},
+        {AUG_OPT_REAL("--dynamic", &o->dt, 0, 1e6, "a time step in (0, 1e6]"),
+         .flags = AUG_OPT_LO_OPEN, .given = &o->ndyn},
+        {AUG_OPT_REALS("--rayleigh", o->rayleigh, 2, "ALPHA,BETA"), .given = &o->nray},
+        {AUG_OPT_CHOICE("--integrator", &o->integrator, integrators, "euler or newmark"),
+         .given = &o->nint},
         {AUG_OPT_FLAG("--lumped-mass", &o->lumped)},
         {AUG_OPT_FLAG("--no-factor", &o->no_factor)},
         {AUG_OPT_FLAG("--no-cond", &o->no_cond)},
         {AUG_OPT_FLAG("--deflate", &o->deflate)},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
+    if ((o->nray || o->nint) && !o->ndyn) aug_tool_usage(t, "--rayleigh and --integrator need --dynamic");
+    if (o->ndyn && aug_dynp_set(&o->dyn, o->integrator, o->nmass ? o->mass : AUG_MAT_M, o->dt,
+                                o->rayleigh[0], o->rayleigh[1]))
+        aug_tool_usage(t, "--rayleigh %g,%g: damping factors must be finite and >= 0", o->rayleigh[0],
+                       o->rayleigh[1]);
+    if (o->nmass && o->mass == AUG_MAT_ML) o->lumped = 1, o->mass = 0;
+    else if (o->nmass) o->mass = 1;
     aug_tool_usage_done(t, synopsis);
 }
 
@@ -72,7 +97,7 @@ static void run(aug_tool *t, const options *o, const aug_mesh *m, cholmod_common
 {
     aug_err e;
     aug_factor_opts fo = {o->ordering, o->simplicial, o->threads, o->mass, o->lumped,
-                          o->no_factor, o->no_cond, o->cond_tol};
+                          o->no_factor, o->no_cond, o->cond_tol, o->ndyn ? &o->dyn : NULL};
     aug_tool_check(t, aug_factored_compute(r, m, &fo, cm, &e), &e);
     aug_tool_check(t, aug_factored_write(t->w, r, m, &fo, cm, &e), &e);
 }

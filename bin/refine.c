@@ -89,6 +89,7 @@ static void flush(aug_tool *t, state *s, const options *o)
             aug_tool_die(t, "%s: the stream has no mesh (NODE and ELEM records)", t->inname);
         aug_tool_check(t, aug_replay_start(&s->rp, &e), &e);
         aug_tool_check(t, aug_refiner_init(&s->r, m, &o->opt, &e), &e);
+        s->r.dyn = s->rp.dynamic ? &s->rp.dyn : NULL;
         s->started = 1;
     }
     aug_tool_check(t, aug_refine_records(&s->r, s->buf, s->nbuf, s->step, t->w, &e), &e);

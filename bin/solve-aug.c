@@ -13,7 +13,7 @@ static const char *synopsis =
     "          [--output all|surface|SET] [--refine-iter N] [--refine-tol R]\n"
     "          [--amps-target R] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
-    "          [--reach path|cholmod] [--threads N] [--time-full] [-h]";
+    "          [--reach path|cholmod] [--threads N] [--time-full] [--frames N] [--settle N] [-h]";
 
 static const char *help =
     "  FILE                 input stream (default: stdin)\n"
@@ -39,6 +39,8 @@ static const char *help =
     "  --on-singular error|report  a singular step: exit 1 (default) or report and go on\n"
     "  --reach path|cholmod AMPS V columns: own etree-path solve (default) or cholmod_solve2\n"
     "  --threads N          threads of CHOLMOD and OpenBLAS (default 1)\n"
+    "  --frames N           dynamic stream: time frames per cut step (default 1)\n"
+    "  --settle N           dynamic stream: frames after the last step (default 0)\n"
     "  --time-full          time one full CHOLMOD solve of the base every step\n"
     "                       (full_solve_ms; default: the median of 5 at the start)\n"
     "  -h                   this help; see solve-aug(1)\n";
@@ -48,6 +50,7 @@ typedef struct options {
     aug_solver_opts so;
     int on_singular_report;
     int time_full;
+    int frames, settle, nframes;
 } options;
 
 static const aug_word precs[] = {
@@ -70,6 +73,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
     aug_solver_opts_default(&o->so);
+    o->frames = 1;
     aug_solver_opts *so = &o->so;
     int nlag = 0, nrtol = 0;
     const aug_opt opt[] = {
@@ -94,6 +98,8 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_CHOICE("--on-singular", &o->on_singular_report, singular, "error or report")},
         {AUG_OPT_CHOICE("--reach", &so->reach_cholmod, reaches, "path or cholmod")},
         {AUG_OPT_THREADS(&so->nthreads)},
+        {AUG_OPT_INT("--frames", &o->frames, 1, 100000000, "a count >= 1"), .given = &o->nframes},
+        {AUG_OPT_INT("--settle", &o->settle, 0, 100000000, "a count >= 0")},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (nlag) so->background = 1;
@@ -125,18 +131,119 @@ static void report(aug_tool *t, const options *o, aug_solver *s, const aug_rec *
                 (int)step, names);
 }
 
-/* one UPDT: every method solves K_t; the first one's field on the output set,
-   then sTAt and tIMe per method */
-static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, double *full_ms,
-                 const aug_rec *rec)
+/* a dynamic stream's session: the integrator's state, the step's UPKM until
+   its UPDT, the initial frame factor wrote */
+typedef struct dyn {
+    aug_dynsim sim;
+    int started;
+    aug_update km;
+    long km_index;
+    aug_frame init;
+    int have_init;
+    double *b;
+    int64_t bcap;
+} dyn;
+
+/* the solver (and, dynamic, the state) at the first update or settle frame */
+static void start(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
+                  double *full_ms, const aug_rec *rec)
 {
     aug_err e;
-    aug_update u;
-    if (aug_read_update(rec, &u, &e)) aug_tool_fail(t, &e);
     if (!sys->solver) {
         aug_tool_check(t, aug_sys0_solver(sys, rp->started ? rp->nfree0 : -1, &o->so, rec, &e), &e);
         *full_ms = aug_solver_full_solve_ms(sys->solver, 5);
     }
+    if (!sys->dynamic || dy->started) return;
+    if (!(rp->mesh.have & AUG_HAVE_NODE))
+        aug_tool_die(t, "%s: record %ld (%s): a dynamic stream needs its mesh", t->inname, rec->index,
+                     rec->type);
+    aug_tool_check(t, aug_dynsim_init(&dy->sim, &sys->dyn, sys->K0, sys->Mk[sys->dyn.mass - 1],
+                                      sys->f0, sys->cm, &e), &e);
+    aug_tool_check(t, aug_dynsim_start(&dy->sim, rp, dy->have_init ? &dy->init : NULL, &e), &e);
+    dy->started = 1;
+}
+
+/* n frames of the current step: the right-hand side from the state, every
+   method's solve, the state advanced by the first method's solution, then
+   fRAM, sTAt and tIMe per method and sTAt (tag dynamics) per frame */
+static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
+                   int32_t step, long n, const aug_rec *rec)
+{
+    aug_err e;
+    aug_solver *s = sys->solver;
+    aug_dynsim *d = &dy->sim;
+    int first = o->so.order[0];
+    for (long f = 0; f < n; f++) {
+        if (d->n > dy->bcap) {
+            free(dy->b);
+            dy->bcap = 2 * d->n;
+            if (!(dy->b = malloc((size_t)dy->bcap * sizeof *dy->b))) aug_tool_die(t, "out of memory");
+        }
+        double t0 = aug_now();
+        aug_tool_check(t, aug_dynsim_rhs(d, rp, dy->b, &e), &e);
+        double t_rhs = aug_now() - t0;
+        if (aug_solver_frame(s, dy->b, d->frame + 1, &e)) {
+            e.record = rec->index;
+            aug_tool_fail(t, &e);
+        }
+        for (int i = 0; i < o->so.nmeth; i++) {
+            int mth = o->so.order[i];
+            if (aug_solver_frame_singular(s, mth) && (mth == first || !o->on_singular_report))
+                aug_tool_die(t, "%s: record %ld (%s): step %d, frame %d: %s did not solve A_t "
+                             "(relres %.3g)", t->inname, rec->index, rec->type, (int)step,
+                             (int)d->frame + 1, aug_method_names[mth],
+                             aug_kv_get(aug_solver_stat(s, mth), "relres", NAN));
+            if (!aug_solver_converged(s, mth))
+                fprintf(stderr, "%s: step %d, frame %d: %s did not converge (relres %.3g)\n",
+                        t->prog, (int)step, (int)d->frame + 1, aug_method_names[mth],
+                        aug_kv_get(aug_solver_stat(s, mth), "relres", NAN));
+        }
+        t0 = aug_now();
+        aug_tool_check(t, aug_dynsim_advance(d, rp, aug_solver_field(s, first), &e), &e);
+        double t_adv = aug_now() - t0;
+        if (rp->mesh.have & AUG_HAVE_NODE)
+            aug_tool_check(t, aug_replay_write_frame(t->w, rp, step, d->frame, d->time, d->u, d->v, &e), &e);
+        for (int i = 0; i < o->so.nmeth; i++) {
+            int mth = o->so.order[i];
+            aug_kv st = *aug_solver_stat(s, mth), tm = *aug_solver_time(s, mth);
+            aug_kv_set(&st, "time", d->time);
+            aug_tool_check(t, aug_write_kv(t->w, "sTAt", step, &st, &e), &e);
+            aug_kv_set(&tm, "frame", d->frame);
+            aug_tool_check(t, aug_write_kv(t->w, "tIMe", step, &tm, &e), &e);
+        }
+        aug_kv k;
+        aug_kv_init(&k, "dynamics");
+        aug_kv_set(&k, "frame", d->frame);
+        aug_kv_set(&k, "time", d->time);
+        aug_kv_set(&k, "kinetic", d->kinetic);
+        aug_kv_set(&k, "potential", d->potential);
+        aug_kv_set(&k, "work", d->work);
+        aug_kv_set(&k, "energy", d->kinetic + d->potential - d->work);
+        aug_tool_check(t, aug_write_kv(t->w, "sTAt", step, &k, &e), &e);
+        aug_kv_init(&k, "dynamics");
+        aug_kv_set(&k, "frame", d->frame);
+        aug_kv_set(&k, "rhs_ms", 1e3 * t_rhs);
+        aug_kv_set(&k, "advance_ms", 1e3 * t_adv);
+        aug_tool_check(t, aug_write_kv(t->w, "tIMe", step, &k, &e), &e);
+    }
+}
+
+/* one UPDT: every method solves K_t; the first one's field on the output set,
+   then sTAt and tIMe per method */
+static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
+                 double *full_ms, const aug_rec *rec)
+{
+    aug_err e;
+    aug_update u;
+    if (aug_read_update(rec, &u, &e)) aug_tool_fail(t, &e);
+    if (sys->dynamic) {
+        if (!dy->km.EK)
+            aug_tool_die(t, "%s: record %ld (UPDT): step %d of a dynamic stream has no UPKM", t->inname,
+                         rec->index, (int)u.step);
+        aug_tool_check(t, aug_update_attach_km(&u, &dy->km, dy->km_index, rec, &e), &e);
+        aug_update_free(&dy->km);
+    }
+    start(t, o, rp, sys, dy, full_ms, rec);
     aug_solver *s = sys->solver;
     const int32_t *out;
     int64_t nout;
@@ -149,6 +256,18 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, d
     }
     aug_tool_pass(t, rec);
     report(t, o, s, rec, u.step);
+    if (sys->dynamic) {
+        aug_tool_check(t, aug_dynsim_step(&dy->sim, &u, rp, rp->mdlt_step == u.step ? rp->mdlt_parent : NULL,
+                                          rp->mdlt_step == u.step ? rp->mdlt_nnew : 0, &e), &e);
+        for (int i = 0; i < o->so.nmeth; i++) {
+            int mth = o->so.order[i];
+            aug_tool_check(t, aug_write_kv(t->w, "sTAt", u.step, aug_solver_stat(s, mth), &e), &e);
+            aug_tool_check(t, aug_write_kv(t->w, "tIMe", u.step, aug_solver_time(s, mth), &e), &e);
+        }
+        frames(t, o, rp, sys, dy, u.step, o->frames, rec);
+        aug_update_free(&u);
+        return;
+    }
     int first = o->so.order[0];
     if (!aug_solver_singular(s, first) && (rp->mesh.have & AUG_HAVE_NODE))
         aug_tool_check(t, aug_replay_write_field(t->w, rp, u.step, aug_solver_field(s, first), &e), &e);
@@ -182,16 +301,45 @@ int main(int argc, char **argv)
     aug_replay_init(&rp);
     rp.output = o.output;
     aug_tool_check(&t, aug_sys0_init(&sys, &e), &e);
+    dyn dy;
+    memset(&dy, 0, sizeof dy);
     while (aug_tool_read(&t, &rec)) {
+        /* the state starts on the original mesh, before the first step's records */
+        if (sys.dynamic && !dy.started && (!memcmp(rec.type, "MDLT", 4) || !memcmp(rec.type, "BDLT", 4) ||
+                                           !memcmp(rec.type, "UPKM", 4) || !memcmp(rec.type, "UPDT", 4)))
+            start(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
         aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
         aug_tool_check(&t, aug_sys0_add(&sys, &rec, &e), &e);
         if (!memcmp(rec.type, "UPDT", 4)) {
-            step(&t, &o, &rp, &sys, &full_ms, &rec);
+            step(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
             aug_progress(&t, rec.step, 0);
+            continue;
         }
-        else aug_tool_pass(&t, &rec);
+        if (!memcmp(rec.type, "UPKM", 4)) {
+            if (!sys.dynamic)
+                aug_tool_die(&t, "%s: record %ld (UPKM): an update of K and M without DYNP", t.inname,
+                             rec.index);
+            aug_update_free(&dy.km);
+            aug_tool_check(&t, aug_read_updkm(&rec, &dy.km, &e), &e);
+            dy.km_index = rec.index;
+        } else if (!memcmp(rec.type, "fRAM", 4) && !dy.started && !dy.have_init) {
+            aug_frame_free(&dy.init);
+            aug_tool_check(&t, aug_read_frame(&rec, &dy.init, &e), &e);
+            dy.have_init = rec.step == 0 && !dy.init.nodes;
+        }
+        aug_tool_pass(&t, &rec);
+    }
+    if (sys.dynamic && o.settle > 0) {
+        start(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
+        frames(&t, &o, &rp, &sys, &dy, rp.last_step, o.settle, &rec);
+    } else if (!sys.dynamic && (o.settle || o.nframes)) {
+        aug_tool_die(&t, "%s: --frames and --settle need a dynamic stream (factor --dynamic)", t.inname);
     }
     aug_tool_close(&t);
+    aug_dynsim_free(&dy.sim);
+    aug_update_free(&dy.km);
+    aug_frame_free(&dy.init);
+    free(dy.b);
     aug_rec_free(&rec);
     aug_sys0_free(&sys);
     aug_replay_free(&rp);

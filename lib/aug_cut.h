@@ -45,7 +45,10 @@ typedef struct aug_replay {
     long nmdlt, applied;       /* MDLT records read, applied */
     int32_t mdlt_step, mdlt_flags; /* the latest MDLT's step, flags (AUG_STEP_*) and counts */
     int64_t mdlt_nnew, mdlt_nmod, mdlt_nadd;
+    int32_t *mdlt_parent;      /* the latest MDLT's parent[mdlt_nnew] */
     int32_t *out_dof;          /* aug_replay_out_dofs' array */
+    int dynamic;               /* a DYNP was read (formats/stream.md 6.6) into dyn */
+    aug_dynp dyn;
 } aug_replay;
 void aug_replay_init(aug_replay *r);
 void aug_replay_free(aug_replay *r);
@@ -59,6 +62,9 @@ int aug_replay_all(const aug_replay *r);
    the array belongs to r and lives until the next call. */
 int aug_replay_out_dofs(aug_replay *r, const int32_t **dofs, int64_t *n, aug_err *e);
 /* fELD (kind 0) of the solution x of step `step` on the output set. */
+/* fRAM of nodal u, v (nn*dim) at frame, time: every node, or the output set */
+int aug_replay_write_frame(aug_writer *w, const aug_replay *r, int32_t step, int32_t frame,
+                           double time, const double *u, const double *v, aug_err *e);
 int aug_replay_write_field(aug_writer *w, const aug_replay *r, int32_t step, const double *x,
                            aug_err *e);
 
@@ -74,15 +80,19 @@ int aug_mesh_apply_bc(aug_mesh *m, const aug_bdelta *b, aug_err *e);
 /* ---- Update of one step (AMPS eq. 3.1) from the mesh after its MDLT ----
    after: the mesh with d applied (aug_mesh_apply) but bc not yet applied;
    nn_before, ne_before: counts before d; oldconn: the connectivity of d->elem
-   before d (d->nmod * nv). bc may be NULL. Fills u (see aug_update_build). */
+   before d (d->nmod * nv). bc may be NULL. Fills u (see aug_update_build).
+   dyn non-NULL (a dynamic stream, DYNP): u->E is the update of the
+   effective matrix A = cM M + cK K assembled from cM M_e + cK K_e, u->EK and
+   u->EM those of K and M on the same Hbar (formats/stream.md 7.8), every one
+   with identity rows where the step constrains; df is the static load's. */
 int aug_update_build_after(const aug_mesh *after, int64_t nn_before, int64_t ne_before,
                            const int32_t *oldconn, const aug_mdelta *d, const aug_bdelta *bc,
-                           int64_t nn0, const int32_t *map0, int64_t nfree0, aug_update *u,
-                           aug_err *e);
+                           int64_t nn0, const int32_t *map0, int64_t nfree0, const aug_dynp *dyn,
+                           aug_update *u, aug_err *e);
 /* As aug_update_build, with a BDLT of the same step (applied after d). */
 int aug_update_build_bc(const aug_mesh *before, const aug_mdelta *d, const aug_bdelta *bc,
-                        int64_t nn0, const int32_t *map0, int64_t nfree0, aug_update *u,
-                        aug_err *e);
+                        int64_t nn0, const int32_t *map0, int64_t nfree0, const aug_dynp *dyn,
+                        aug_update *u, aug_err *e);
 
 /* ---- Node -> element adjacency, kept current while a mesh is edited ---- */
 typedef struct aug_adj {
@@ -348,6 +358,7 @@ typedef struct aug_cutter {
     aug_pieces pieces;
     int64_t nn0, nfree0;         /* cut-matrix numbering (formats/stream.md 7.2) */
     const int32_t *map0;
+    const aug_dynp *dyn;         /* a dynamic stream's DYNP (updates of A, K, M), or NULL */
     int policy;                  /* AUG_DETACH_* */
     int one_piece;               /* the last analysis found one face-connected piece */
     double pull;                 /* pull force per copy, 0: none */

@@ -5,6 +5,7 @@
 #define AUG_FEM_H
 
 #include <cholmod.h>
+#include "aug_dyn.h"
 #include "aug_mesh.h"
 
 /* Linear elastic element stiffness of element e (tet4: 12x12, tri3 plane
@@ -13,7 +14,7 @@ void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke);
 /* Consistent (lumped = 0) or row-sum lumped (lumped = 1) mass matrix of e. */
 void aug_elem_mass(const aug_mesh *m, int64_t e, int lumped, double *Me);
 
-enum { AUG_MAT_K = 0, AUG_MAT_M = 1, AUG_MAT_ML = 2 };
+enum { AUG_MAT_K = 0, AUG_MAT_M = 1, AUG_MAT_ML = 2, AUG_MAT_A = 3 };
 
 /* Global matrix over the free DOFs of map (aug_dofmap): upper triangle,
    sorted columns, stype = 1, deterministic summation order. NULL on failure. */
@@ -96,6 +97,21 @@ int aug_write_field(aug_writer *w, int32_t step, int32_t kind, int dim, int64_t 
 int aug_read_field(const aug_rec *rec, int32_t *kind, int *dim, int64_t *count,
                    int32_t **nodes, double **u, aug_err *e);
 
+/* fRAM (one time frame of a dynamic stream, formats/stream.md 7.9): nodal
+   displacement u and velocity v, nodes == NULL for nodes 0..count-1. */
+typedef struct aug_frame {
+    int32_t frame;
+    double time;
+    int dim;
+    int64_t count;
+    int32_t *nodes;
+    double *u, *v;
+} aug_frame;
+int aug_write_frame(aug_writer *w, int32_t step, const aug_frame *f, aug_err *e);
+/* fills f (malloc'd arrays; aug_frame_free also on error) */
+int aug_read_frame(const aug_rec *rec, aug_frame *f, aug_err *e);
+void aug_frame_free(aug_frame *f);
+
 /* Node -> element incidence (CSR, elements increasing): elements of node i are
    ind[ptr[i] .. ptr[i+1]-1]. Both malloc'd; -1 on allocation failure. */
 int aug_node_elements(const aug_mesh *m, int64_t **ptr, int32_t **ind);
@@ -107,11 +123,17 @@ int aug_node_elements(const aug_mesh *m, int64_t **ptr, int32_t **ind);
 typedef struct aug_factor_opts {
     int ordering, simplicial, threads, mass, lumped, no_factor, no_cond;
     double cond_tol;
+    const aug_dynp *dyn;       /* factor --dynamic: the integrator (NULL: statics) */
 } aug_factor_opts;
+/* With dyn set (factor --dynamic), the factored matrix is the integrator's
+   A = cM M + cK K (aug_dyn.h) instead of K, with M of dyn->mass; a piece
+   without supports is not singular (its mass holds it), a material without
+   density is; a = A^-1 f only checks the factor (no field: the scene starts
+   at rest, written as frame 0). */
 typedef struct aug_factored {
     int32_t *map;
     int64_t nfree;
-    cholmod_sparse *K, *M, *ML;
+    cholmod_sparse *K, *M, *ML, *A;
     double *f, *a;
     cholmod_factor *L;
     double relres;

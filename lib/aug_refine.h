@@ -165,6 +165,7 @@ typedef struct aug_refiner {
     int64_t capc;
     int64_t nn0, nfree0;  /* original nodes and free DOFs */
     int32_t *map0;        /* aug_dofmap of the original mesh */
+    const aug_dynp *dyn;  /* a dynamic stream's DYNP (updates of A, K, M), or NULL */
     aug_refine_opt opt;
 } aug_refiner;
 

@@ -7,6 +7,7 @@
 #define AUG_SOLVE_H
 
 #include <cholmod.h>
+#include "aug_fem.h"
 #include "aug_update.h"
 
 /* ---- cumulative update (cutmat.c) -------------------------------------- */
@@ -272,8 +273,13 @@ void aug_amps_free(aug_amps *a);
 int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
                   int64_t nout, double rcond_min, double *u, double times[4],
                   cholmod_common *cm, aug_err *e);
+/* The per-step work of aug_amps_step without a solve (reach, memo, schur:
+   times[0..2] in ms); then any number of aug_amps_solve_general (the frames
+   of a dynamic step). */
+int aug_amps_prepare(aug_amps *a, const aug_base *b, const aug_cum *c, double rcond_min,
+                     double times[3], cholmod_common *cm, aug_err *e);
 /* Solve K_t x = r for a general r with the current factorization (used by
-   iterative refinement; full vectors). */
+   iterative refinement and by the frames of a dynamic step; full vectors). */
 int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
                            const double *r, double *x, cholmod_common *cm, aug_err *e);
 
@@ -294,6 +300,10 @@ int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat
                    const int32_t *out, int64_t nout, double *u, double times[4], aug_err *e);
 int aug_gmres_solve_general(aug_gmres *g, const aug_base *b, const aug_cum *c,
                             const double *r, double *x, aug_err *e);
+/* The per-step set-up of aug_gmres_step (J = K_t Hbar, closures) without a
+   solve: then aug_gmres_solve_general per right-hand side. */
+int aug_gmres_prepare(aug_gmres *g, const aug_base *b, const aug_cum *c, const aug_cutmat *m,
+                      aug_err *e);
 int aug_gmres_iters(const aug_gmres *g);
 int aug_gmres_converged(const aug_gmres *g);
 int64_t aug_gmres_closure_j(const aug_gmres *g);
@@ -400,6 +410,7 @@ typedef struct aug_solver_opts {
     double rcond_min;
     int reach_cholmod;   /* amps V columns by cholmod_solve2 with Bset */
     int nthreads;
+    int dynamic;         /* the matrix is a dynamic stream's A (aug_solver_frame) */
 } aug_solver_opts;
 void aug_solver_opts_default(aug_solver_opts *o);
 
@@ -416,6 +427,12 @@ typedef struct aug_sys0 {
     cholmod_factor *L0;
     long k_index, f_index, l_index; /* their record indices */
     struct aug_solver *solver;
+    /* a dynamic stream (DYNP): the solver's matrix is A0 (KMAT which 3) and
+       FACT its factor; K0 and M0 (KMAT of DYNP's mass kind) drive the frames */
+    int dynamic;
+    aug_dynp dyn;
+    cholmod_sparse *A0, *Mk[2];
+    long a_index;
 } aug_sys0;
 /* largest relres of K0 L0^-1 f0 that lets a FACT pass as K0's factor */
 #define AUG_SYS0_TOL 1e-4
@@ -447,5 +464,56 @@ const aug_kv *aug_solver_time(const aug_solver *s, int method);
 double aug_solver_full_solve_ms(aug_solver *s, int reps);
 int aug_solver_singular(const aug_solver *s, int method);
 int aug_solver_converged(const aug_solver *s, int method);
+/* Dynamic streams (opts.dynamic): aug_solver_step does each method's
+   per-step work only (AMPS: V, H'A^-1H and S2; gmres: J; refactor and
+   rowupdate: the factor; pcg: A_t assembled); a detached piece is no longer
+   singular (its mass holds A_t definite). Then per time frame one right-hand
+   side b: every method solves A_t x = b with what its step left (refined as
+   in a step, pcg warm-started from its previous frame), its field, sTAt
+   (frame, relres, iters, refine, converged, singular, err_direct with
+   --check) and tIMe (time_ms) replaced. */
+int aug_solver_frame(aug_solver *s, const double *b, int32_t frame, aug_err *e);
+int aug_solver_frame_singular(const aug_solver *s, int method);
+
+/* ---- time integration of a dynamic stream (dyn_sim.c) ----------------- */
+
+struct aug_replay;
+/* State over the nodes of the step's mesh (u, v, the acceleration estimate
+   (v1 - v0) / h), K_t and M_t in the cut-matrix numbering (K_0, M_0 and the
+   UPKM updates; Kc's load is the static f_t of the UPDTs), the integrator. */
+typedef struct aug_dynsim {
+    aug_dynp p;
+    cholmod_common *cm;
+    aug_cutmat Kc, Mc;
+    int64_t nn, n, cap, ncap;
+    int dim;
+    double *u, *v, *acc, *du, *cval;   /* nodal (nn*dim); cval: prescribed value or NAN */
+    double *xu, *xv, *y, *zero;        /* matrix-numbered scratch (n) */
+    int32_t *idof;                     /* matrix index -> DOF */
+    int64_t *ep;                       /* node -> element incidence */
+    int32_t *ei;
+    unsigned char *moving;             /* node holds a moving constrained DOF */
+    int32_t frame;
+    double time, kinetic, potential, work;
+} aug_dynsim;
+int aug_dynsim_init(aug_dynsim *d, const aug_dynp *p, const cholmod_sparse *K0,
+                    const cholmod_sparse *M0, const double *f0, cholmod_common *cm, aug_err *e);
+void aug_dynsim_free(aug_dynsim *d);
+/* At rest on the replay's mesh (u = the prescribed values, v = 0) or from a
+   frame over every node (init). */
+int aug_dynsim_start(aug_dynsim *d, const struct aug_replay *rp, const aug_frame *init, aug_err *e);
+/* A step: K and M updated by u->EK, u->EM (AMPS eq. 3.1 form), the nnew new
+   nodes of the replay's mesh take the state of their parents. */
+int aug_dynsim_step(aug_dynsim *d, const aug_update *u, const struct aug_replay *rp,
+                    const int32_t *parent, int64_t nnew, aug_err *e);
+/* b (order of A_t) of one frame (aug_dyn.h): h M_t v0 + gamma h^2 (f_t - K_t u0)
+   on free rows, the increment to the prescribed value on constrained ones, and
+   the coupling to constrained DOFs that move (value != u0, or v0 != 0) added
+   element by element. */
+int aug_dynsim_rhs(aug_dynsim *d, const struct aug_replay *rp, double *b, aug_err *e);
+/* The frame's solution dx of A_t dx = b: u, v advanced (aug_dynp_velocity),
+   frame and time counted, kinetic (1/2 v'Mv), potential (1/2 u'Ku) and the
+   load's work f'u over the free DOFs. */
+int aug_dynsim_advance(aug_dynsim *d, const struct aug_replay *rp, const double *dx, aug_err *e);
 
 #endif

@@ -91,7 +91,8 @@ extern const aug_codec aug_codec_node, aug_codec_matl, aug_codec_elem, aug_codec
     aug_codec_fixd, aug_codec_load, aug_codec_outs;
 extern const aug_codec aug_codec_dofm, aug_codec_kmat, aug_codec_fvec, aug_codec_fact,
     aug_codec_feld;
-extern const aug_codec aug_codec_mdlt, aug_codec_updt, aug_codec_bdlt, aug_codec_path;
+extern const aug_codec aug_codec_mdlt, aug_codec_updt, aug_codec_upkm, aug_codec_bdlt, aug_codec_path;
+extern const aug_codec aug_codec_dynp, aug_codec_fram;
 extern const aug_codec aug_codec_kv;   /* cOND sTAt tIMe qUAl */
 
 typedef struct aug_rectype {

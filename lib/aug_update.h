@@ -3,6 +3,7 @@
 #ifndef AUG_UPDATE_H
 #define AUG_UPDATE_H
 
+#include "aug_dyn.h"
 #include "aug_mesh.h"
 
 /* Mesh change of one step: new nodes are appended (their index is nn + i at the
@@ -41,6 +42,10 @@ typedef struct aug_update {
     int32_t *H;
     double *E;
     double *df;
+    /* dynamic streams (formats/stream.md 7.8, UPKM): E is the update of the
+       effective matrix A (aug_dyn.h), and EK, EM those of K and M on the same
+       Hbar in the same form (new-new blocks -K_t, -M_t); NULL in statics */
+    double *EK, *EM;
 } aug_update;
 
 /* Constraints and loads changed by one step (BDLT, formats/stream.md 7.7). */
@@ -77,8 +82,16 @@ void aug_update_free(aug_update *u);
    values) and fills the struct, which is freed by its _free also on error. */
 int aug_write_mdelta(aug_writer *w, int dim, int nv, const aug_mdelta *d, aug_err *e);
 int aug_read_mdelta(const aug_rec *rec, int dim, int nv, aug_mdelta *d, aug_err *e);
+/* aug_write_update writes the step's UPKM first when u->EK is set. */
 int aug_write_update(aug_writer *w, const aug_update *u, aug_err *e);
 int aug_read_update(const aug_rec *rec, aug_update *u, aug_err *e);
+/* UPKM: i32 m, i32 k, f64 EK[s*s], f64 EM[s*s] (s = m + k, symmetric, finite);
+   read into a struct whose m, k, step are set and EK, EM filled (H, E, df NULL).
+   aug_update_attach_km moves them into the UPDT u of the same step, after
+   checking that step, m and k agree (else AUG_EDATA naming both records). */
+int aug_read_updkm(const aug_rec *rec, aug_update *km, aug_err *e);
+int aug_update_attach_km(aug_update *u, aug_update *km, long km_index, const aug_rec *updt,
+                         aug_err *e);
 int aug_write_bdelta(aug_writer *w, const aug_bdelta *b, aug_err *e);
 int aug_read_bdelta(const aug_rec *rec, aug_bdelta *b, aug_err *e);
 int aug_write_path(aug_writer *w, const aug_pathrec *p, aug_err *e);

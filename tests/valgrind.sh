@@ -20,7 +20,7 @@ vg() { # $1 stdin file or -, $2 stdout file, then the tool and its arguments
     else fail=$((fail + 1)); echo "FAIL valgrind $* (exit $rc)"; head -40 $log | sed 's/^/    /'; fi
 }
 vg - $out/m3.aug meshload $S/brick_n4.msh --fix fixed --load top:0,0,-1
-vg $out/m3.aug $out/f3.aug factor --mass
+vg $out/m3.aug $out/f3.aug factor --mass consistent
 vg $out/f3.aug $out/c3.aug cut --plane 1,0,0,0.5 --steps 3 --pull 0.1 --constrain top@2
 vg $out/c3.aug $out/r3.aug refine
 vg $out/r3.aug $out/s3.aug solve-aug --method amps,gmres,refactor,rowupdate,pcg --check

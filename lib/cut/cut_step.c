@@ -123,7 +123,7 @@ int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e)
         if (aug_bdelta_finish(&s->bc)) goto nomem;
     }
     rc = aug_update_build_after(c->m, s->nn_before, s->ne_before, s->oldconn, &s->d, &s->bc,
-                                c->nn0, c->map0, c->nfree0, &s->u, e);
+                                c->nn0, c->map0, c->nfree0, c->dyn, &s->u, e);
     if (rc) return rc;
     s->u.step = s->step;
     return aug_mesh_apply_bc(c->m, &s->bc, e);

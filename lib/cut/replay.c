@@ -17,6 +17,7 @@ void aug_replay_free(aug_replay *r)
     aug_mesh_free(&r->mesh);
     free(r->map0);
     free(r->out_dof);
+    free(r->mdlt_parent);
     memset(r, 0, sizeof *r);
 }
 
@@ -123,6 +124,9 @@ static int add_mdlt(aug_replay *r, const aug_rec *rec, aug_err *e)
             if (rc) e->record = rec->index, memcpy(e->type, "MDLT", 5);
             else r->applied++;
         }
+        free(r->mdlt_parent);
+        r->mdlt_parent = d.parent; /* kept: the nodes the new ones were copied from */
+        d.parent = NULL;
     }
     aug_mdelta_free(&d);
     return rc;
@@ -150,6 +154,10 @@ int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
     if (!memcmp(rec->type, "DOFM", 4)) return add_dofm(r, rec, e);
     if (!memcmp(rec->type, "MDLT", 4)) return add_mdlt(r, rec, e);
     if (!memcmp(rec->type, "BDLT", 4)) return add_bdlt(r, rec, e);
+    if (!memcmp(rec->type, "DYNP", 4)) {
+        if (aug_read_dynp(rec, &r->dyn, e)) return e->code;
+        r->dynamic = 1;
+    }
     return 0;
 }
 
@@ -188,6 +196,31 @@ int aug_replay_out_dofs(aug_replay *r, const int32_t **dofs, int64_t *n, aug_err
 
 /* u(node, c) = x[index(node, c)], or the prescribed value of an original
    constrained DOF; over every node, or the output set's nodes (indexed) */
+/* the state of d over every node, or the output set's nodes (indexed) */
+int aug_replay_write_frame(aug_writer *w, const aug_replay *r, int32_t step, int32_t frame,
+                           double time, const double *u, const double *v, aug_err *e)
+{
+    aug_err_clear(e);
+    const aug_mesh *m = &r->mesh;
+    int all = aug_replay_all(r), dim = r->dim;
+    int64_t cnt = all ? m->nn : m->nout;
+    aug_frame f = {frame, time, dim, cnt, NULL, (double *)u, (double *)v};
+    if (all) return aug_write_frame(w, step, &f, e);
+    double *uo = aug_malloc((size_t)(2 * cnt * dim + 1) * sizeof *uo), *vo = uo + cnt * dim;
+    if (!uo) return aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "fRAM", "out of memory");
+    for (int64_t i = 0; i < cnt; i++)
+        for (int c = 0; c < dim; c++) {
+            uo[i * dim + c] = u[(int64_t)m->out_nodes[i] * dim + c];
+            vo[i * dim + c] = v[(int64_t)m->out_nodes[i] * dim + c];
+        }
+    static int32_t none[1] = {0};
+    f.nodes = m->out_nodes ? m->out_nodes : none;
+    f.u = uo, f.v = vo;
+    int rc = aug_write_frame(w, step, &f, e);
+    free(uo);
+    return rc;
+}
+
 int aug_replay_write_field(aug_writer *w, const aug_replay *r, int32_t step, const double *x,
                            aug_err *e)
 {

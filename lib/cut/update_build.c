@@ -36,6 +36,8 @@ typedef struct ubuild {
     hent *h;                    /* Hbar's old indices, increasing */
     int64_t m, s;               /* |H|, |Hbar| = m + k */
     double *E, *fo, *fn;        /* E (s x s); the constrained values' lift before / after */
+    const aug_dynp *dyn;        /* dynamics: E of A = cM M + cK K, with EK, EM */
+    double *EK, *EM;
 } ubuild;
 
 static int fixed_prev(const ubuild *b, int32_t dof, double *v)
@@ -69,8 +71,10 @@ static double load_now(const ubuild *b, int32_t dof)
     return aug_mesh_load(b->A, dof);
 }
 
-/* element stiffness of the element with connectivity conn and material mat in A */
-static void stiffness(const aug_mesh *A, const int32_t *conn, int32_t mat, double *Ke)
+/* element stiffness (and, Me non-NULL, the mass of kind lumped) of the
+   element with connectivity conn and material mat in A */
+static void element(const aug_mesh *A, const int32_t *conn, int32_t mat, double *Ke, double *Me,
+                    int lumped)
 {
     aug_mesh t;
     double x[12];
@@ -89,6 +93,7 @@ static void stiffness(const aug_mesh *A, const int32_t *conn, int32_t mat, doubl
     t.nmat = A->nmat;
     t.mats = A->mats;
     aug_elem_stiffness(&t, 0, Ke);
+    if (Me) aug_elem_mass(&t, 0, lumped, Me);
 }
 
 static int cmp_hent(const void *a, const void *b)
@@ -216,6 +221,11 @@ static int index_set(ubuild *b)
     if (b->s > (1 << 20))
         return aug_err_set(b->e, AUG_EDATA, -1, "UPDT", "update of order %lld is too large", (long long)b->s);
     b->E = aug_calloc((size_t)(b->s * b->s) + 1, sizeof *b->E);
+    if (b->dyn) {
+        b->EK = aug_calloc((size_t)(b->s * b->s) + 1, sizeof *b->EK);
+        b->EM = aug_calloc((size_t)(b->s * b->s) + 1, sizeof *b->EM);
+        if (!b->EK || !b->EM) return NOMEM(b);
+    }
     b->fo = aug_calloc((size_t)b->s + 1, sizeof *b->fo);
     b->fn = aug_calloc((size_t)b->s + 1, sizeof *b->fn);
     b->u->H = aug_malloc((size_t)b->m * sizeof *b->u->H + 1);
@@ -226,8 +236,9 @@ static int index_set(ubuild *b)
 
 /* E += sign K_e on the element's free DOFs in Hbar (upper triangle), and
    lift -= K_e(:, j) v_j for its constrained DOFs j of value v_j (now: after
-   the step, else before) */
-static void add_element(ubuild *b, const int32_t *cc, int now, const double *K, double sign, double *lift)
+   the step, else before; lift NULL: none) */
+static void add_element(ubuild *b, double *E, const int32_t *cc, int now, const double *K,
+                        double sign, double *lift)
 {
     int dim = b->dim, nd = b->nd;
     int64_t pos[12], s = b->s;
@@ -246,30 +257,53 @@ static void add_element(ubuild *b, const int32_t *cc, int now, const double *K, 
     for (int j = 0; j < nd; j++) {
         if (fr[j]) {
             for (int a = 0; a < nd; a++)
-                if (fr[a] && pos[a] <= pos[j]) b->E[pos[a] + pos[j] * s] += sign * K[a + j * nd];
-        } else if (val[j] != 0) {
+                if (fr[a] && pos[a] <= pos[j]) E[pos[a] + pos[j] * s] += sign * K[a + j * nd];
+        } else if (val[j] != 0 && lift) {
             for (int a = 0; a < nd; a++)
                 if (fr[a]) lift[pos[a]] -= K[a + j * nd] * val[j];
         }
     }
 }
 
-/* -(K_t - [K_{t-1} 0; 0 0]) on Hbar: each element's stiffness before (+) and
-   after (-), with the lifts of the constrained values into fo and fn */
+/* the element's matrices into E (statics: K with the lift; dynamics: A =
+   cM M + cK K into E, K with the lift into EK, M into EM) */
+static void add_matrices(ubuild *b, const int32_t *cc, int now, const double *K, const double *M,
+                         double sign, double *lift)
+{
+    if (!b->dyn) {
+        add_element(b, b->E, cc, now, K, sign, lift);
+        return;
+    }
+    double Ae[144];
+    for (int i = 0; i < b->nd * b->nd; i++) Ae[i] = b->dyn->cM * M[i] + b->dyn->cK * K[i];
+    add_element(b, b->E, cc, now, Ae, sign, NULL);
+    add_element(b, b->EK, cc, now, K, sign, lift);
+    add_element(b, b->EM, cc, now, M, sign, NULL);
+}
+
+/* -(K_t - [K_{t-1} 0; 0 0]) on Hbar: each element's stiffness (and mass)
+   before (+) and after (-), with the lifts of the constrained values into fo
+   and fn */
 static void stiffness_change(ubuild *b)
 {
     const aug_mesh *A = b->A;
+    int lumped = b->dyn && b->dyn->mass == 2;
     for (int64_t q = 0; q < b->nel; q++) {
         int32_t i = b->el[q];
         const int32_t *oc = old_conn(b, i), *nc = A->conn + (int64_t)i * b->nv;
-        double Ko[144], Kn[144];
+        double Ko[144], Kn[144], Mo[144], Mn[144];
+        double *mo = b->dyn ? Mo : NULL, *mn = b->dyn ? Mn : NULL;
         if (oc) {
-            stiffness(A, oc, A->mat[i], Ko);
-            add_element(b, oc, 0, Ko, 1.0, b->fo);
+            element(A, oc, A->mat[i], Ko, mo, lumped);
+            add_matrices(b, oc, 0, Ko, mo, 1.0, b->fo);
         }
-        if (oc && memcmp(oc, nc, (size_t)b->nv * sizeof *nc) == 0) memcpy(Kn, Ko, sizeof Kn);
-        else stiffness(A, nc, A->mat[i], Kn);
-        add_element(b, nc, 1, Kn, -1.0, b->fn);
+        if (oc && memcmp(oc, nc, (size_t)b->nv * sizeof *nc) == 0) {
+            memcpy(Kn, Ko, sizeof Kn);
+            if (mn) memcpy(Mn, Mo, sizeof Mn);
+        } else {
+            element(A, nc, A->mat[i], Kn, mn, lumped);
+        }
+        add_matrices(b, nc, 1, Kn, mn, -1.0, b->fn);
     }
 }
 
@@ -292,14 +326,19 @@ static void rows_and_rhs(ubuild *b)
         }
         double vp = 0, vn = 0, *df = b->u->df;
         int fp = p < m && fixed_prev(b, dof, &vp), fw = fixed_now(b, dof, &vn);
-        if (fw && !fp) b->E[p + p * s] -= 1.0;
+        if (fw && !fp) {
+            b->E[p + p * s] -= 1.0;
+            if (b->dyn) b->EK[p + p * s] -= 1.0, b->EM[p + p * s] -= 1.0;
+        }
         if (p >= m) df[p] = fw ? vn : load_now(b, dof) + b->fn[p];
         else if (!fp && !fw) df[p] = (load_now(b, dof) - load_prev(b, dof)) + (b->fn[p] - b->fo[p]);
         else if (!fp && fw) df[p] = vn - (load_prev(b, dof) + b->fo[p]);
         else df[p] = vn - vp;
     }
-    for (int64_t j = 0; j < s; j++)
-        for (int64_t i = j + 1; i < s; i++) b->E[i + j * s] = b->E[j + i * s];
+    double *Es[3] = {b->E, b->EK, b->EM};
+    for (int c = 0; c < (b->dyn ? 3 : 1); c++)
+        for (int64_t j = 0; j < s; j++)
+            for (int64_t i = j + 1; i < s; i++) Es[c][i + j * s] = Es[c][j + i * s];
 }
 
 /* drop the old indices whose row of E and load change are exactly zero
@@ -312,7 +351,8 @@ static int drop_zero_rows(ubuild *b)
     if (!keep) return NOMEM(b);
     for (int64_t p = 0; p < s; p++) {
         int nz = p >= m || u->df[p] != 0;
-        for (int64_t q = 0; q < s && !nz; q++) nz = b->E[p + q * s] != 0;
+        for (int64_t q = 0; q < s && !nz; q++)
+            nz = b->E[p + q * s] != 0 || (b->dyn && (b->EK[p + q * s] != 0 || b->EM[p + q * s] != 0));
         if (nz) keep[nk++] = p;
     }
     if (nk < s) {
@@ -322,8 +362,10 @@ static int drop_zero_rows(ubuild *b)
             u->df[a] = u->df[keep[a]];
         }
         /* in place, in increasing target order: every source lies at or after its target */
-        for (int64_t j = 0; j < nk; j++)
-            for (int64_t a = 0; a < nk; a++) b->E[a + j * nk] = b->E[keep[a] + keep[j] * s];
+        double *Es[3] = {b->E, b->EK, b->EM};
+        for (int c = 0; c < (b->dyn ? 3 : 1); c++)
+            for (int64_t j = 0; j < nk; j++)
+                for (int64_t a = 0; a < nk; a++) Es[c][a + j * nk] = Es[c][keep[a] + keep[j] * s];
         b->m = m2;
         b->s = nk;
     }
@@ -338,7 +380,8 @@ static int drop_zero_rows(ubuild *b)
    and right-hand side, the zero rows dropped. */
 int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const int32_t *oldconn,
                            const aug_mdelta *d, const aug_bdelta *bc, int64_t nn0,
-                           const int32_t *map0, int64_t nfree0, aug_update *u, aug_err *e)
+                           const int32_t *map0, int64_t nfree0, const aug_dynp *dyn,
+                           aug_update *u, aug_err *e)
 {
     aug_err_clear(e);
     aug_update_init(u);
@@ -346,7 +389,7 @@ int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const in
     ubuild b;
     memset(&b, 0, sizeof b);
     b.A = A, b.nnb = nnb, b.neb = neb, b.oldconn = oldconn, b.d = d, b.bc = bc;
-    b.nn0 = nn0, b.map0 = map0, b.nfree0 = nfree0, b.u = u, b.e = e;
+    b.nn0 = nn0, b.map0 = map0, b.nfree0 = nfree0, b.u = u, b.e = e, b.dyn = dyn;
     b.dim = A->dim, b.nv = A->nv, b.nd = A->nv * A->dim;
     b.nprev = nfree0 + b.dim * (nnb - nn0), b.k = b.dim * d->nnew;
     int rc = check_input(&b);
@@ -361,21 +404,22 @@ int aug_update_build_after(const aug_mesh *A, int64_t nnb, int64_t neb, const in
     free(b.fo);
     free(b.fn);
     if (rc) {
-        free(b.E);
+        free(b.E), free(b.EK), free(b.EM);
         aug_update_free(u);
         return rc;
     }
     u->m = (int32_t)b.m;
     u->k = (int32_t)b.k;
     u->E = b.E;
+    u->EK = b.EK, u->EM = b.EM;
     return 0;
 }
 
 /* the UPDT of delta d plus boundary changes bc on mesh before
    (aug_update_build_after on a copy with d applied; paper 001 eq. 3.1) */
 int aug_update_build_bc(const aug_mesh *before, const aug_mdelta *d, const aug_bdelta *bc,
-                        int64_t nn0, const int32_t *map0, int64_t nfree0, aug_update *u,
-                        aug_err *e)
+                        int64_t nn0, const int32_t *map0, int64_t nfree0, const aug_dynp *dyn,
+                        aug_update *u, aug_err *e)
 {
     aug_err_clear(e);
     aug_mesh t;
@@ -394,7 +438,8 @@ int aug_update_build_bc(const aug_mesh *before, const aug_mdelta *d, const aug_b
                (size_t)before->nv * sizeof *old);
     rc = aug_mesh_apply(&t, d, e);
     if (!rc)
-        rc = aug_update_build_after(&t, before->nn, before->ne, old, d, bc, nn0, map0, nfree0, u, e);
+        rc = aug_update_build_after(&t, before->nn, before->ne, old, d, bc, nn0, map0, nfree0, dyn,
+                                    u, e);
     free(old);
     aug_mesh_free(&t);
     return rc;
@@ -408,5 +453,5 @@ nomem:
 int aug_update_build(const aug_mesh *before, const aug_mdelta *d, int64_t nn0,
                      const int32_t *map0, int64_t nfree0, aug_update *u, aug_err *e)
 {
-    return aug_update_build_bc(before, d, NULL, nn0, map0, nfree0, u, e);
+    return aug_update_build_bc(before, d, NULL, nn0, map0, nfree0, NULL, u, e);
 }

@@ -1,6 +1,7 @@
 /* factor's job on the intact scene: assemble K (and M) over the free DOFs, order
-   and factor K = L D L' with CHOLMOD, solve K a = f, estimate cond(K), and
-   write DOFM, KMAT, FVEC, FACT, cOND, the step-0 fELD, sTAt and tIMe. */
+   and factor K = L D L' with CHOLMOD (dynamics: the integrator's A = cM M + cK K),
+   solve K a = f, estimate cond(K), and write DOFM, (DYNP,) KMAT, FVEC, FACT,
+   cOND, the step-0 fELD (dynamics: fRAM frame 0, at rest), sTAt and tIMe. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +12,7 @@ void aug_factored_free(aug_factored *r, cholmod_common *cm)
     cholmod_free_sparse(&r->K, cm);
     cholmod_free_sparse(&r->M, cm);
     cholmod_free_sparse(&r->ML, cm);
+    cholmod_free_sparse(&r->A, cm);
     cholmod_free_factor(&r->L, cm);
     free(r->map);
     free(r->f);
@@ -24,7 +26,11 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
 {
     aug_err_clear(e);
     memset(r, 0, sizeof *r);
-    if (aug_mesh_validate(m, e) || aug_check_support(m, e)) return e->code;
+    if (aug_mesh_validate(m, e) || (!o->dyn && aug_check_support(m, e))) return e->code;
+    for (int32_t i = 0; o->dyn && i < m->nmat; i++)
+        if (!(m->mats[i].rho > 0))
+            return aug_err_set(e, AUG_EDATA, -1, "MATL", "material %d has density %g: no mass for "
+                               "--dynamic", (int)i, m->mats[i].rho);
     r->map = aug_malloc((size_t)(m->nn * m->dim) * sizeof *r->map + 1);
     if (!r->map) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
     r->nfree = aug_dofmap(m, r->map);
@@ -35,20 +41,29 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
     r->a = aug_malloc((size_t)r->nfree * sizeof *r->a);
     if (!r->f || !r->a) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
     if (aug_load_vector(m, r->map, r->nfree, r->f, e)) return e->code;
+    int wantM = o->mass || (o->dyn && o->dyn->mass == AUG_MAT_M);
+    int wantML = o->lumped || (o->dyn && o->dyn->mass == AUG_MAT_ML);
+    if (wantM && !(r->M = aug_assemble(m, r->map, r->nfree, AUG_MAT_M, cm, e))) return e->code;
+    if (wantML && !(r->ML = aug_assemble(m, r->map, r->nfree, AUG_MAT_ML, cm, e))) return e->code;
+    cholmod_sparse *F = r->K;  /* the matrix factored */
+    if (o->dyn) {
+        double cM[2] = {o->dyn->cM, 0}, cK[2] = {o->dyn->cK, 0};
+        r->A = cholmod_add(o->dyn->mass == AUG_MAT_M ? r->M : r->ML, r->K, cM, cK, 1, 1, cm);
+        if (!r->A) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+        F = r->A;
+    }
     r->t_asm = aug_now() - t0;
-    if (o->mass && !(r->M = aug_assemble(m, r->map, r->nfree, AUG_MAT_M, cm, e))) return e->code;
-    if (o->lumped && !(r->ML = aug_assemble(m, r->map, r->nfree, AUG_MAT_ML, cm, e))) return e->code;
     aug_factor_options(cm, o->ordering, o->simplicial);
     t0 = aug_now();
-    if (!(r->L = aug_analyze(r->K, cm, e))) return e->code;
+    if (!(r->L = aug_analyze(F, cm, e))) return e->code;
     r->t_an = aug_now() - t0;
     r->lnz = cm->lnz;
     r->fl = cm->fl;
     t0 = aug_now();
-    if (aug_factorize(r->K, r->L, m, r->map, cm, e)) return e->code;
+    if (aug_factorize(F, r->L, m, r->map, cm, e)) return e->code;
     r->t_fac = aug_now() - t0;
     t0 = aug_now();
-    if (aug_solve(r->K, r->L, r->f, r->a, &r->relres, cm, e)) return e->code;
+    if (aug_solve(F, r->L, r->f, r->a, &r->relres, cm, e)) return e->code;
     r->t_sol = aug_now() - t0;
     /* loads that overflow the solve (|f| ~ 1e306) give no field, not an infinite one */
     for (int64_t i = 0; i < r->nfree; i++)
@@ -57,7 +72,7 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
                                "(loads or material values out of range)");
     if (!o->no_cond) {
         t0 = aug_now();
-        if (aug_cond_estimate(r->K, r->L, o->cond_tol, &r->cond, cm, e)) return e->code;
+        if (aug_cond_estimate(F, r->L, o->cond_tol, &r->cond, cm, e)) return e->code;
         r->t_cond = aug_now() - t0;
     }
     return 0;
@@ -68,9 +83,11 @@ int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
 {
     aug_err_clear(e);
     double t0 = aug_now();
-    if (aug_write_dofmap(w, m, r->map, r->nfree, e) || aug_write_sparse(w, AUG_MAT_K, r->K, e) ||
+    if (aug_write_dofmap(w, m, r->map, r->nfree, e) || (o->dyn && aug_write_dynp(w, o->dyn, e)) ||
+        aug_write_sparse(w, AUG_MAT_K, r->K, e) ||
         (r->M && aug_write_sparse(w, AUG_MAT_M, r->M, e)) ||
         (r->ML && aug_write_sparse(w, AUG_MAT_ML, r->ML, e)) ||
+        (r->A && aug_write_sparse(w, AUG_MAT_A, r->A, e)) ||
         aug_write_vector(w, "FVEC", AUG_NOSTEP, 0, r->f, r->nfree, e) ||
         (!o->no_factor && aug_write_factor(w, r->L, cm, e)))
         return e->code;
@@ -89,8 +106,22 @@ int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
     }
     double *u = aug_malloc((size_t)(m->nn * m->dim) * sizeof *u + 1);
     if (!u) return aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "fELD", "out of memory");
-    aug_expand_field(m, r->map, r->a, u);
-    int rc = aug_write_field(w, 0, 0, m->dim, m->nn, NULL, u, e);
+    int rc;
+    if (o->dyn) {
+        /* at rest: u = the prescribed values (0 on the free DOFs), v = 0 */
+        double *v = aug_calloc((size_t)(m->nn * m->dim) + 1, sizeof *v);
+        if (!v) {
+            free(u);
+            return aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "fRAM", "out of memory");
+        }
+        aug_expand_field(m, r->map, v, u);
+        aug_frame f = {0, 0.0, m->dim, m->nn, NULL, u, v};
+        rc = aug_write_frame(w, 0, &f, e);
+        free(v);
+    } else {
+        aug_expand_field(m, r->map, r->a, u);
+        rc = aug_write_field(w, 0, 0, m->dim, m->nn, NULL, u, e);
+    }
     free(u);
     if (rc) return rc;
     aug_kv_init(&k, "factor");
@@ -101,6 +132,7 @@ int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
     aug_kv_set(&k, "ordering", r->L->ordering);
     aug_kv_set(&k, "is_super", r->L->is_super);
     aug_kv_set(&k, "relres", r->relres);
+    if (o->dyn) aug_kv_set(&k, "nnz_A", (double)cholmod_nnz(r->A, cm));
     aug_kv_set(&k, "m", 0);
     aug_kv_set(&k, "k", 0);
     if (aug_write_kv(w, "sTAt", 0, &k, e)) return e->code;

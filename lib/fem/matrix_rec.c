@@ -139,7 +139,7 @@ cholmod_sparse *aug_read_sparse(const aug_rec *rec, int *which, cholmod_common *
     aug_cur_init(&c, rec);
     int32_t wh = aug_cur_i32(&c), stype = aug_cur_i32(&c);
     int64_t n = aug_cur_i64(&c), nnz = aug_cur_i64(&c);
-    if (!c.ok || wh < AUG_MAT_K || wh > AUG_MAT_ML) {
+    if (!c.ok || wh < AUG_MAT_K || wh > AUG_MAT_A) {
         BAD("unknown matrix kind %d", (int)wh);
         return NULL;
     }
@@ -281,10 +281,10 @@ static int kmat_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
     aug_cur_init(&c, rec);
     int32_t which = aug_cur_i32(&c), stype = aug_cur_i32(&c);
     int64_t n = aug_cur_i64(&c), nnz = aug_cur_i64(&c);
-    static const char *names[] = {"stiffness K", "consistent mass M", "lumped mass"};
+    static const char *names[] = {"stiffness K", "consistent mass M", "lumped mass", "effective A"};
     aug_txt_header(o, rec);
     fprintf(o, "  which %d (%s)\n  stype %d\n  n %lld\n  nnz %lld\n", (int)which,
-            which >= 0 && which <= 2 ? names[which] : "unknown", (int)stype, (long long)n,
+            which >= 0 && which <= 3 ? names[which] : "unknown", (int)stype, (long long)n,
             (long long)nnz);
     aug_txt_i64s(o, "colptr", &c, (uint64_t)n + 1);
     aug_txt_i32s(o, "rowind", &c, (uint64_t)nnz);

@@ -82,8 +82,22 @@ nomem:
     return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
 }
 
+/* UPKM: the K and M updates of a dynamic step on the UPDT's Hbar */
+static int write_updkm(aug_writer *w, const aug_update *u, aug_err *e)
+{
+    aug_buf b;
+    aug_buf_init(&b);
+    size_t s = (size_t)u->m + (size_t)u->k;
+    aug_buf_i32(&b, u->m);
+    aug_buf_i32(&b, u->k);
+    aug_buf_f64v(&b, u->EK, s * s);
+    aug_buf_f64v(&b, u->EM, s * s);
+    return emit(w, "UPKM", u->step, &b, e);
+}
+
 int aug_write_update(aug_writer *w, const aug_update *u, aug_err *e)
 {
+    if (u->EK && write_updkm(w, u, e)) return e->code;
     aug_buf b;
     aug_buf_init(&b);
     size_t s = (size_t)u->m + (size_t)u->k;
@@ -127,6 +141,55 @@ int aug_read_update(const aug_rec *rec, aug_update *u, aug_err *e)
         for (uint64_t j = 0; j < i; j++)
             if (u->E[i + j * s] != u->E[j + i * s])
                 return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "E is not symmetric");
+    return 0;
+}
+
+/* n x n symmetric with finite entries */
+static int sym_finite(const double *A, uint64_t n)
+{
+    for (uint64_t j = 0; j < n; j++)
+        for (uint64_t i = 0; i <= j; i++)
+            if (!isfinite(A[i + j * n]) || A[i + j * n] != A[j + i * n]) return 0;
+    return 1;
+}
+
+int aug_read_updkm(const aug_rec *rec, aug_update *km, aug_err *e)
+{
+    aug_err_clear(e);
+    aug_update_init(km);
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    km->step = rec->step;
+    km->m = aug_cur_i32(&c);
+    km->k = aug_cur_i32(&c);
+    if (km->m < 0 || km->k < 0 || (int64_t)km->m + km->k > 1 << 20)
+        return BAD("impossible sizes m = %d, k = %d", (int)km->m, (int)km->k);
+    uint64_t s = (uint64_t)km->m + (uint64_t)km->k;
+    if (c.len - c.pos != 16 * s * s)
+        return BAD("payload size does not match m = %d, k = %d", (int)km->m, (int)km->k);
+    km->EK = aug_malloc((size_t)(s * s) * 8 + 1);
+    km->EM = aug_malloc((size_t)(s * s) * 8 + 1);
+    if (!km->EK || !km->EM) return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+    aug_cur_f64v(&c, km->EK, s * s);
+    aug_cur_f64v(&c, km->EM, s * s);
+    if (!sym_finite(km->EK, s) || !sym_finite(km->EM, s))
+        return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
+                           "EK or EM is not symmetric or has a non-finite entry");
+    return 0;
+}
+
+int aug_update_attach_km(aug_update *u, aug_update *km, long km_index, const aug_rec *updt,
+                         aug_err *e)
+{
+    aug_err_clear(e);
+    if (km->step != u->step || km->m != u->m || km->k != u->k)
+        return aug_err_set(e, AUG_EDATA, updt->index, updt->type,
+                           "step %d, m %d, k %d, its UPKM (record %ld) step %d, m %d, k %d",
+                           (int)u->step, (int)u->m, (int)u->k, km_index, (int)km->step, (int)km->m,
+                           (int)km->k);
+    free(u->EK), free(u->EM);
+    u->EK = km->EK, u->EM = km->EM;
+    km->EK = km->EM = NULL;
     return 0;
 }
 
@@ -328,6 +391,33 @@ static int updt_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
     return 0;
 }
 
+static int upkm_check(const aug_rec *rec, aug_err *e)
+{
+    aug_update km;
+    int rc = aug_read_updkm(rec, &km, e);
+    aug_update_free(&km);
+    return rc;
+}
+
+static int upkm_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    (void)m;
+    aug_update km;
+    if (aug_read_updkm(rec, &km, e)) {
+        aug_update_free(&km);
+        return e->code;
+    }
+    uint64_t s = (uint64_t)km.m + (uint64_t)km.k;
+    aug_txt_header(o, rec);
+    fprintf(o, "  m %d\n  k %d\n", (int)km.m, (int)km.k);
+    aug_cur c = aug_cur_mem(km.EK, s * s * 8);
+    aug_txt_f64s(o, "EK", &c, s * s);
+    c = aug_cur_mem(km.EM, s * s * 8);
+    aug_txt_f64s(o, "EM", &c, s * s);
+    aug_update_free(&km);
+    return 0;
+}
+
 static int path_check(const aug_rec *rec, aug_err *e)
 {
     aug_pathrec p;
@@ -355,5 +445,6 @@ static int path_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
 /* MDLT has no check on its own: its layout depends on the mesh (dim, nv) */
 const aug_codec aug_codec_mdlt = {"lib/mesh/step_rec.c", NULL, mdlt_dump};
 const aug_codec aug_codec_updt = {"lib/mesh/step_rec.c", updt_check, updt_dump};
+const aug_codec aug_codec_upkm = {"lib/mesh/step_rec.c", upkm_check, upkm_dump};
 const aug_codec aug_codec_bdlt = {"lib/mesh/step_rec.c", bdlt_check, bdlt_dump};
 const aug_codec aug_codec_path = {"lib/mesh/step_rec.c", path_check, path_dump};

@@ -21,6 +21,8 @@ void aug_update_free(aug_update *u)
     free(u->H);
     free(u->E);
     free(u->df);
+    free(u->EK);
+    free(u->EM);
     aug_update_init(u);
 }
 

@@ -313,7 +313,7 @@ int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *bc, c
     if (bc && outbc && (rc = translate_bc(r, bc, outbc, e))) goto out;
     double t3 = now_ms();
     if (u && (rc = aug_update_build_bc(&r->base, out, bc ? outbc : NULL, r->nn0, r->map0, r->nfree0,
-                                       u, e)))
+                                       r->dyn, u, e)))
         goto out;
     q->t_update = now_ms() - t3;
     if ((rc = aug_mesh_apply(&r->base, out, e))) goto out;
@@ -364,7 +364,7 @@ int aug_refine_bc_only(aug_refiner *r, int32_t step, const aug_bdelta *bc, aug_b
         double x0[3] = {0, 0, 0};
         d0.parent = d0.elem = d0.conn = d0.conn_add = d0.mat_add = i0;
         d0.x = x0;
-        if ((rc = aug_update_build_bc(&r->base, &d0, outbc, r->nn0, r->map0, r->nfree0, u, e)))
+        if ((rc = aug_update_build_bc(&r->base, &d0, outbc, r->nn0, r->map0, r->nfree0, r->dyn, u, e)))
             return rc;
     }
     if ((rc = aug_mesh_apply_bc(&r->base, outbc, e))) return rc;

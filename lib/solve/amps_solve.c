@@ -100,9 +100,10 @@ static void v_times(const aug_amps *a, const aug_base *b, const double *wp, doub
    ones (eq. 3.10 with f_t = [f_b; 0] + P_S dF); then eq. 3.20: new DOFs of A take
    a2, every other DOF (base DOFs of A too) [a_b; 0] + Kbar^-1 P_S (dF + Ebar a2),
    through one L^-T over the closure of out (all of L when out is NULL). */
-int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
-                  int64_t nout, double rcond_min, double *u, double times[4],
-                  cholmod_common *cm, aug_err *e)
+/* the per-step part of AMPS (paper 001 table 1 steps 1-3 and 5): the V
+   columns of the new base DOFs of S, H'K^-1H grown, S2 factored */
+int aug_amps_prepare(aug_amps *a, const aug_base *b, const aug_cum *c, double rcond_min,
+                     double times[3], cholmod_common *cm, aug_err *e)
 {
     double t0 = now_ms();
     if (scratch(a, b, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
@@ -111,8 +112,17 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
     if (!rc) rc = aug_memo_grow(&a->memo, b, e);
     double t2 = now_ms();
     if (!rc) rc = aug_schur_factor(&a->schur, &a->memo, c, rcond_min, e);
+    times[0] = t1 - t0, times[1] = t2 - t1, times[2] = now_ms() - t2;
+    return rc;
+}
+
+int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
+                  int64_t nout, double rcond_min, double *u, double times[4],
+                  cholmod_common *cm, aug_err *e)
+{
+    int rc = aug_amps_prepare(a, b, c, rcond_min, times, cm, e);
     double t3 = now_ms();
-    times[0] = t1 - t0, times[1] = t2 - t1, times[2] = t3 - t2, times[3] = 0;
+    times[3] = 0;
     if (rc || a->schur.singular) return rc;
     const aug_memo *M = &a->memo;
     const aug_schur *s = &a->schur;

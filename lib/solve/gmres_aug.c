@@ -453,6 +453,12 @@ int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat
 
 /* K_t x = r for a general r (iterative refinement): the same three steps with
    full solves, this step's J and preconditioner */
+int aug_gmres_prepare(aug_gmres *g, const aug_base *b, const aug_cum *c, const aug_cutmat *m,
+                      aug_err *e)
+{
+    return setup(g, b, c, m, e);
+}
+
 int aug_gmres_solve_general(aug_gmres *g, const aug_base *b, const aug_cum *c,
                             const double *r, double *x, aug_err *e)
 {

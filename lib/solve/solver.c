@@ -66,9 +66,14 @@ struct aug_solver {
     double *pcg_x, *f, *ref, *tmp, *tmp2;
     aug_kv stat[AUG_M_COUNT], time[AUG_M_COUNT];
     cholmod_dense *fB, *fX, *fY, *fE; /* full-solve timing workspaces */
-    int singular[AUG_M_COUNT], converged[AUG_M_COUNT];
+    int singular[AUG_M_COUNT], converged[AUG_M_COUNT], frame_singular[AUG_M_COUNT];
     int32_t step;
     int bg_unsolved;     /* a method did not solve the background job's step */
+    /* dynamics (aug_solver_frame): pcg's assembled A_t, the --check reference
+       factor and AMPS's fallback factor of the step */
+    cholmod_sparse *pcg_K;
+    aug_refactor chk, amps_fb;
+    int chk_ok, amps_fb_ok;
 };
 
 aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
@@ -84,6 +89,8 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     s->cm = cm;
     aug_amps_init(&s->amps);
     aug_refactor_init(&s->rf);
+    aug_refactor_init(&s->chk);
+    aug_refactor_init(&s->amps_fb);
     s->amps.memo.use_cholmod = o->reach_cholmod;
     s->amps.schur.want_rcond = o->check; /* a diagnostic: O(na^2) per step */
     for (int i = 0; i < o->nmeth; i++) s->use[o->order[i]] = 1;
@@ -127,6 +134,9 @@ void aug_solver_free(aug_solver *s)
     aug_amps_free(&s->amps);
     aug_gmres_free(s->gm);
     aug_refactor_free(&s->rf, s->cm);
+    aug_refactor_free(&s->chk, s->cm);
+    aug_refactor_free(&s->amps_fb, s->cm);
+    if (s->pcg_K) cholmod_free_sparse(&s->pcg_K, s->cm);
     aug_rowupd_free(s->ru, s->cm);
     aug_base_release(s->base, s->cm);
     aug_cum_free(&s->cum);
@@ -272,6 +282,8 @@ typedef struct method {
     /* the method's own sTAt and tIMe entries of the step */
     void (*stats)(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm);
     int flags;
+    /* the per-step work of a dynamic step, without a solve (NULL: step) */
+    int (*prep)(aug_solver *s, const step_req *q, step_res *r, aug_err *e);
 } method;
 
 /* the problem size of a method on the whole cut matrix: m = DOFs of K0
@@ -292,8 +304,17 @@ static int amps_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
     return rc;
 }
 
+static int amps_prep(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
+{
+    (void)q;
+    int rc = aug_amps_prepare(&s->amps, s->base, &s->cum, s->o.rcond_min, r->t, s->cm, e);
+    r->sing = s->amps.schur.singular;
+    return rc;
+}
+
 static int amps_solve(aug_solver *s, const double *b, double *x, aug_err *e)
 {
+    if (s->amps_fb_ok) return aug_refactor_solve(&s->amps_fb, b, x, s->cm, e);
     return aug_amps_solve_general(&s->amps, s->base, &s->cum, b, x, s->cm, e);
 }
 
@@ -320,6 +341,12 @@ static int gmres_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
     r->iters = aug_gmres_iters(s->gm);
     r->conv = aug_gmres_converged(s->gm);
     return rc;
+}
+
+static int gmres_prep(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
+{
+    (void)q, (void)r;
+    return aug_gmres_prepare(s->gm, s->base, &s->cum, &s->cut, e);
 }
 
 static int gmres_solve(aug_solver *s, const double *b, double *x, aug_err *e)
@@ -405,6 +432,18 @@ static int pcg_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
     return 0;
 }
 
+/* a dynamic step: A_t assembled once for the step's frames */
+static int pcg_prep(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
+{
+    (void)q;
+    double ta = 1e3 * aug_now();
+    if (s->pcg_K) cholmod_free_sparse(&s->pcg_K, s->cm);
+    if (!(s->pcg_K = aug_cutmat_sparse(&s->cut, 0, s->cm)))
+        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    r->t[0] = 1e3 * aug_now() - ta;
+    return 0;
+}
+
 static void pcg_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
 {
     cut_size(s, st);
@@ -412,11 +451,11 @@ static void pcg_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv
 }
 
 static const method methods[AUG_M_COUNT] = {
-    [AUG_M_AMPS] = {amps_step, amps_solve, amps_stats, M_DIRECT | M_BASED | M_TARGET},
-    [AUG_M_GMRES] = {gmres_step, gmres_solve, gmres_stats, M_BASED},
-    [AUG_M_REFACTOR] = {refactor_step, refactor_solve, refactor_stats, M_DIRECT},
-    [AUG_M_ROWUPDATE] = {rowupdate_step, rowupdate_solve, rowupdate_stats, M_DIRECT},
-    [AUG_M_PCG] = {pcg_step, NULL, pcg_stats, 0},
+    [AUG_M_AMPS] = {amps_step, amps_solve, amps_stats, M_DIRECT | M_BASED | M_TARGET, amps_prep},
+    [AUG_M_GMRES] = {gmres_step, gmres_solve, gmres_stats, M_BASED, gmres_prep},
+    [AUG_M_REFACTOR] = {refactor_step, refactor_solve, refactor_stats, M_DIRECT, NULL},
+    [AUG_M_ROWUPDATE] = {rowupdate_step, rowupdate_solve, rowupdate_stats, M_DIRECT, NULL},
+    [AUG_M_PCG] = {pcg_step, NULL, pcg_stats, 0, pcg_prep},
 };
 
 /* ---- one step of the session ---- */
@@ -425,7 +464,23 @@ static const method methods[AUG_M_COUNT] = {
    refine_iter steps when set, else while relres > refine_tol (at most
    refine_max steps, stopping when a step does not halve it). Returns the
    number of steps or -1; *rr: the final relres. */
-static int refine(aug_solver *s, const method *op, double *x, double *rr, aug_err *e)
+/* r = b - K_t x, returns ||r|| / ||b|| (absolute when b = 0); b NULL: f_t */
+static double residual(aug_solver *s, const double *b, const double *x, double *r)
+{
+    if (!b) return aug_cutmat_residual(&s->cut, x, r);
+    int64_t n = s->cut.cum.n;
+    aug_cutmat_mult(&s->cut, x, r);
+    double rr = 0, bb = 0;
+    for (int64_t i = 0; i < n; i++) {
+        r[i] = b[i] - r[i];
+        rr += r[i] * r[i];
+        bb += b[i] * b[i];
+    }
+    return bb > 0 ? sqrt(rr / bb) : sqrt(rr);
+}
+
+static int refine(aug_solver *s, const method *op, const double *b, double *x, double *rr,
+                  aug_err *e)
 {
     int64_t n = s->cut.cum.n;
     int fixed = s->o.refine_iter > 0, it;
@@ -434,7 +489,7 @@ static int refine(aug_solver *s, const method *op, double *x, double *rr, aug_er
         return 0;
     }
     double tol = s->o.refine_tol, once = 0; /* once: a single step above this */
-    if (!fixed && (op->flags & M_TARGET)) {
+    if (!fixed && !b && (op->flags & M_TARGET)) {
         /* the residual AMPS promises on well-conditioned meshes (amps_target):
            one step when it is missed (near-detached pieces), more only above
            refine_tol. AMPS's solution is one back-substitution off the rows of
@@ -447,13 +502,13 @@ static int refine(aug_solver *s, const method *op, double *x, double *rr, aug_er
         }
     }
     /* the residual vector (s->tmp) and its relative norm in one product */
-    double r = aug_cutmat_residual(&s->cut, x, s->tmp);
+    double r = residual(s, b, x, s->tmp);
     for (it = 0; fixed ? it < s->o.refine_iter
                        : (r > tol || (it == 0 && once > 0 && r > once)) && it < s->o.refine_max;
          it++) {
         if (op->solve(s, s->tmp, s->tmp2, e)) return -1;
         for (int64_t i = 0; i < n; i++) x[i] += s->tmp2[i];
-        double r2 = aug_cutmat_residual(&s->cut, x, s->tmp);
+        double r2 = residual(s, b, x, s->tmp);
         int better = r2 < 0.5 * r;
         r = r2;
         if (!fixed && !better) {
@@ -520,7 +575,7 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
     double rref = NAN; /* the relres refine() computed for x, if it did */
     if (!r.sing && q->full && op->solve && ((op->flags & M_DIRECT) || s->o.refine_iter > 0)) {
         double tr = 1e3 * aug_now();
-        if ((nref = refine(s, op, r.x, &rref, e)) < 0) return e->code;
+        if ((nref = refine(s, op, NULL, r.x, &rref, e)) < 0) return e->code;
         if (nref) put(tm, "refine", 1e3 * aug_now() - tr);
     }
     double total = 1e3 * aug_now() - t0;
@@ -644,6 +699,127 @@ static int check_direct(aug_solver *s, aug_err *e)
     return 0;
 }
 
+/* A dynamic step (aug_solver_opts.dynamic): method m's per-step work for the
+   effective matrix A_t, no solve; AMPS whose S2 it calls singular falls back
+   to a CHOLMOD factorization of A_t for the step's frames (fallback 1) */
+static int prep_method(aug_solver *s, int m, const step_req *q, int swapped, aug_err *e)
+{
+    const method *op = &methods[m];
+    aug_kv *st = &s->stat[m], *tm = &s->time[m];
+    step_res r = {.x = s->field[m], .conv = 1, .ran = 1};
+    double t0 = 1e3 * aug_now();
+    int rc;
+    aug_kv_init(st, aug_method_names[m]);
+    aug_kv_init(tm, aug_method_names[m]);
+    put(st, "n", (double)s->cut.cum.n);
+    put(st, "m_step", q->u->m);
+    put(st, "k_step", q->u->k);
+    memset(r.x, 0, (size_t)s->cut.cum.n * sizeof *r.x);
+    if ((rc = op->prep ? op->prep(s, q, &r, e) : op->step(s, q, &r, e))) return rc;
+    op->stats(s, &r, st, tm);
+    s->amps_fb_ok = 0;
+    if (m == AUG_M_AMPS && r.sing) {
+        aug_refactor_free(&s->amps_fb, s->cm);
+        aug_refactor_init(&s->amps_fb);
+        double t[4];
+        if (aug_refactor_step(&s->amps_fb, &s->cut, s->tmp, t, s->cm, e)) return e->code;
+        s->amps_fb_ok = !s->amps_fb.singular;
+        r.sing = s->amps_fb.singular;
+        put(st, "fallback", s->amps_fb_ok);
+    }
+    if (op->flags & M_BASED) {
+        put(st, "swapped", swapped);
+        put(st, "base_step", s->base->step);
+    }
+    put(st, "singular", r.sing);
+    put(tm, "time_ms", 1e3 * aug_now() - t0);
+    s->singular[m] = r.sing;
+    s->converged[m] = !r.sing;
+    return 0;
+}
+
+/* one method on one frame: x = A_t^-1 b by its solve (pcg warm-started from
+   its previous frame), refined as in a step, judged by its relres */
+static int frame_method(aug_solver *s, int m, const double *b, int32_t frame, aug_err *e)
+{
+    const method *op = &methods[m];
+    aug_kv *st = &s->stat[m], *tm = &s->time[m];
+    int64_t n = s->cut.cum.n;
+    double *x = s->field[m], t0 = 1e3 * aug_now(), rr = NAN;
+    int sing = s->singular[m], conv = 1, iters = 0, nref = 0, rc;
+    aug_kv_init(st, aug_method_names[m]);
+    aug_kv_init(tm, aug_method_names[m]);
+    put(st, "frame", frame);
+    put(st, "n", (double)n);
+    if (!sing && m == AUG_M_PCG) {
+        double *xp = aug_realloc(s->pcg_x, (size_t)n * sizeof *xp);
+        if (!xp) return aug_err_set(e, AUG_ENOMEM, -1, "fRAM", "out of memory");
+        s->pcg_x = xp;
+        for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0;
+        s->pcg_n = n;
+        iters = aug_pcg(s->pcg_K, b, xp, s->o.tol, s->o.maxit, &conv, &sing, &rr, s->cm);
+        memcpy(x, xp, (size_t)n * sizeof *x);
+    } else if (!sing) {
+        if ((rc = op->solve(s, b, x, e))) return rc;
+        if (m == AUG_M_GMRES) iters = aug_gmres_iters(s->gm), conv = aug_gmres_converged(s->gm);
+        double tr = 1e3 * aug_now();
+        if (((op->flags & M_DIRECT) || s->o.refine_iter > 0) && (nref = refine(s, op, b, x, &rr, e)) < 0)
+            return e->code;
+        if (nref) put(tm, "refine", 1e3 * aug_now() - tr);
+    }
+    double total = 1e3 * aug_now() - t0;
+    if (!sing && (isnan(rr) || m == AUG_M_PCG)) rr = residual(s, b, x, s->tmp);
+    if (!sing && (((op->flags & M_DIRECT) && !(rr <= s->o.fail_tol)) || !isfinite(rr))) sing = 1;
+    put(st, "iters", iters);
+    put(st, "refine", nref);
+    put(st, "relres", sing ? NAN : rr);
+    put(st, "converged", sing ? 0 : conv);
+    put(st, "singular", sing);
+    put(tm, "time_ms", total);
+    s->converged[m] = !sing && conv;
+    s->frame_singular[m] = sing;
+    return 0;
+}
+
+int aug_solver_frame(aug_solver *s, const double *b, int32_t frame, aug_err *e)
+{
+    int rc;
+    for (int oi = 0; oi < s->o.nmeth; oi++)
+        if ((rc = frame_method(s, s->o.order[oi], b, frame, e))) return rc;
+    if (!s->o.check) return 0;
+    int64_t n = s->cut.cum.n;
+    if (s->chk_ok && aug_refactor_solve(&s->chk, b, s->ref, s->cm, e)) return e->code;
+    for (int oi = 0; oi < s->o.nmeth; oi++) {
+        int m = s->o.order[oi];
+        put(&s->stat[m], "err_direct", !s->chk_ok || s->frame_singular[m] ? NAN : reldiff(s->field[m], s->ref, n));
+        put(&s->stat[m], "direct_spd", s->chk_ok);
+    }
+    return 0;
+}
+
+int aug_solver_frame_singular(const aug_solver *s, int m) { return s->frame_singular[m]; }
+
+/* the per-step work of every method on a dynamic step, and the --check
+   reference factor of A_t */
+static int dynamic_step(aug_solver *s, const aug_update *u, int swapped, aug_err *e)
+{
+    step_req q = {u, NULL, 0, 1};
+    int rc, unsolved = 0;
+    for (int oi = 0; oi < s->o.nmeth; oi++) {
+        if ((rc = prep_method(s, s->o.order[oi], &q, swapped, e))) return rc;
+        unsolved |= !s->converged[s->o.order[oi]];
+    }
+    if (s->o.check) {
+        aug_refactor_free(&s->chk, s->cm);
+        aug_refactor_init(&s->chk);
+        double t[4];
+        if (aug_refactor_step(&s->chk, &s->cut, s->ref, t, s->cm, e)) return e->code;
+        s->chk_ok = !s->chk.singular;
+    }
+    if (s->bg && !aug_bg_running(s->bg)) return start_background(s, unsolved, e);
+    return 0;
+}
+
 /* One step: K_t and f_t (AMPS eq. 3.1), the background factor swapped in when
    it is ready, the step composed into the update relative to the base, then
    every requested method in order, the --check reference, and the next
@@ -659,6 +835,7 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
     if ((rc = join_background(s, &swapped, e))) return rc;
     if (aug_cum_apply(&s->cum, u, e)) return e->code;
     if (s->bg && aug_bg_running(s->bg) && aug_bg_push(s->bg, u, e)) return e->code;
+    if (s->o.dynamic) return dynamic_step(s, u, swapped, e);
     /* a step that detaches a piece without Dirichlet support is singular */
     int detached = (flags & AUG_STEP_DETACHED) && !(flags & (AUG_STEP_PINNED | AUG_STEP_DROPPED));
     step_req q = {u, out, nout, !out || s->o.refine_iter > 0};

@@ -23,6 +23,9 @@ void aug_sys0_free(aug_sys0 *s)
     if (s->cm) {
         if (s->L0) cholmod_free_factor(&s->L0, s->cm);
         if (s->K0) cholmod_free_sparse(&s->K0, s->cm);
+        if (s->A0) cholmod_free_sparse(&s->A0, s->cm);
+        for (int i = 0; i < 2; i++)
+            if (s->Mk[i]) cholmod_free_sparse(&s->Mk[i], s->cm);
         cholmod_finish(s->cm);
     }
     free(s->cm);
@@ -30,7 +33,8 @@ void aug_sys0_free(aug_sys0 *s)
     memset(s, 0, sizeof *s);
 }
 
-/* KMAT (the first of kind K), FVEC (the first of kind 0), FACT; others ignored */
+/* KMAT (the first of each kind), FVEC (the first of kind 0), FACT, DYNP;
+   others ignored */
 int aug_sys0_add(aug_sys0 *s, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
@@ -39,7 +43,12 @@ int aug_sys0_add(aug_sys0 *s, const aug_rec *rec, aug_err *e)
         cholmod_sparse *A = aug_read_sparse(rec, &which, s->cm, e);
         if (!A) return e->code;
         if (which == AUG_MAT_K && !s->K0) s->K0 = A, s->k_index = rec->index;
+        else if (which == AUG_MAT_A && !s->A0) s->A0 = A, s->a_index = rec->index;
+        else if ((which == AUG_MAT_M || which == AUG_MAT_ML) && !s->Mk[which - 1]) s->Mk[which - 1] = A;
         else cholmod_free_sparse(&A, s->cm);
+    } else if (!memcmp(rec->type, "DYNP", 4)) {
+        if (aug_read_dynp(rec, &s->dyn, e)) return e->code;
+        s->dynamic = 1;
     } else if (!memcmp(rec->type, "FVEC", 4)) {
         int32_t kind;
         int64_t n;
@@ -56,11 +65,11 @@ int aug_sys0_add(aug_sys0 *s, const aug_rec *rec, aug_err *e)
     return 0;
 }
 
-/* ||K0 L0^-1 f0 - f0|| / ||f0||: a factor of another K shows as a large residual
-   (a factor of K0 reaches about cond(K0) eps) */
-static double factor_relres(aug_sys0 *s)
+/* ||K L0^-1 f0 - f0|| / ||f0||: a factor of another K shows as a large residual
+   (a factor of K reaches about cond(K) eps) */
+static double factor_relres(aug_sys0 *s, cholmod_sparse *K)
 {
-    int64_t n = (int64_t)s->K0->nrow;
+    int64_t n = (int64_t)K->nrow;
     cholmod_dense *b = cholmod_allocate_dense((size_t)n, 1, (size_t)n, CHOLMOD_REAL, s->cm);
     if (!b) return NAN;
     memcpy(b->x, s->f0, (size_t)n * sizeof(double));
@@ -69,7 +78,7 @@ static double factor_relres(aug_sys0 *s)
     if (x) {
         double one[2] = {1, 0}, mone[2] = {-1, 0};
         cholmod_dense *r = cholmod_copy_dense(b, s->cm);
-        if (r && cholmod_sdmult(s->K0, 0, one, mone, x, r, s->cm)) {
+        if (r && cholmod_sdmult(K, 0, one, mone, x, r, s->cm)) {
             double nr = cholmod_norm_dense(r, 2, s->cm), nf = cholmod_norm_dense(b, 2, s->cm);
             rr = nf > 0 ? nr / nf : nr;
         }
@@ -90,17 +99,28 @@ int aug_sys0_solver(aug_sys0 *s, int64_t nfree, const aug_solver_opts *o, const 
     if (!s->K0 || !s->f0 || !s->L0 || nfree < 0)
         return aug_err_set(e, AUG_EORDER, rec->index, rec->type,
                            "DOFM, KMAT (which 0), FVEC and FACT must come first");
-    if (s->nf0 != (int64_t)s->K0->nrow || nfree != (int64_t)s->K0->nrow)
+    if (s->dynamic && (!s->A0 || !s->Mk[s->dyn.mass - 1]))
+        return aug_err_set(e, AUG_EORDER, rec->index, rec->type,
+                           "a dynamic stream (DYNP) needs KMAT which 3 (A) and which %d (M) first",
+                           s->dyn.mass);
+    if (!s->dynamic && s->A0)
+        return aug_err_set(e, AUG_EDATA, s->a_index, "KMAT", "an effective matrix A without DYNP");
+    cholmod_sparse *K = s->dynamic ? s->A0 : s->K0, *M = s->dynamic ? s->Mk[s->dyn.mass - 1] : NULL;
+    long ki = s->dynamic ? s->a_index : s->k_index;
+    if (s->nf0 != (int64_t)K->nrow || nfree != (int64_t)K->nrow || s->K0->nrow != K->nrow ||
+        (M && M->nrow != K->nrow))
         return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "FVEC, DOFM and KMAT orders differ");
-    if ((int64_t)s->L0->n != (int64_t)s->K0->nrow)
+    if ((int64_t)s->L0->n != (int64_t)K->nrow)
         return aug_err_set(e, AUG_EDATA, s->l_index, "FACT", "order %lld, KMAT (record %ld) %lld",
-                           (long long)s->L0->n, s->k_index, (long long)s->K0->nrow);
-    double rr = factor_relres(s);
+                           (long long)s->L0->n, ki, (long long)K->nrow);
+    double rr = factor_relres(s, K);
     if (!(rr <= AUG_SYS0_TOL))
         return aug_err_set(e, AUG_EDATA, s->l_index, "FACT",
                            "does not factor the KMAT of record %ld (relres %.3g of its solve of "
-                           "FVEC record %ld)", s->k_index, rr, s->f_index);
-    s->solver = aug_solver_new(s->K0, s->f0, s->L0, o, s->cm, e);
+                           "FVEC record %ld)", ki, rr, s->f_index);
+    aug_solver_opts so = *o;
+    so.dynamic = s->dynamic;
+    s->solver = aug_solver_new(K, s->f0, s->L0, &so, s->cm, e);
     s->L0 = NULL; /* the solver owns it, also on failure */
     return s->solver ? 0 : e->code;
 }

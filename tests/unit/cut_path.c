@@ -127,7 +127,7 @@ static int run_path(aug_mesh *m, const char *text, int mode, int steps, int poli
         res->flags |= S.d.flags;
         /* the library entry aug_update_build_bc on the mesh before gives the same bytes */
         aug_update u2;
-        T_CHECK(aug_update_build_bc(&before, &S.d, &S.bc, T.nn0, T.map0, T.nfree0, &u2, &e) == 0, "%s", e.msg);
+        T_CHECK(aug_update_build_bc(&before, &S.d, &S.bc, T.nn0, T.map0, T.nfree0, NULL, &u2, &e) == 0, "%s", e.msg);
         int s2 = u2.m + u2.k;
         T_CHECK(u2.m == S.u.m && u2.k == S.u.k && !memcmp(u2.H, S.u.H, (size_t)u2.m * 4) &&
                     !memcmp(u2.E, S.u.E, (size_t)s2 * s2 * 8) && !memcmp(u2.df, S.u.df, (size_t)s2 * 8),

@@ -353,7 +353,7 @@ static void build_api(void)
         aug_cutter_apply(&C, &S, &e);
         T_CHECK(aug_cutter_update(&C, &S, &e) == 0, "%s", e.msg);
         aug_update u;
-        T_CHECK(aug_update_build_bc(&before, &S.d, &S.bc, nn0, map0, nfree0, &u, &e) == 0, "%s", e.msg);
+        T_CHECK(aug_update_build_bc(&before, &S.d, &S.bc, nn0, map0, nfree0, NULL, &u, &e) == 0, "%s", e.msg);
         int s = u.m + u.k;
         T_CHECK(u.m == S.u.m && u.k == S.u.k && !memcmp(u.H, S.u.H, (size_t)u.m * 4) &&
                     !memcmp(u.E, S.u.E, (size_t)s * s * 8) && !memcmp(u.df, S.u.df, (size_t)s * 8),
