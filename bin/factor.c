@@ -10,7 +10,8 @@
 static const char *synopsis =
     "factor [FILE] [--ordering auto|amd|metis] [--simplicial] [--threads N]\n"
     "       [--mass consistent|lumped] [--lumped-mass] [--no-factor] [--no-cond] [--cond-tol T]\n"
-    "       [--dynamic DT [--rayleigh ALPHA,BETA] [--integrator euler|newmark]] [--deflate] [-h]";
+    "       [--dynamic DT [--rayleigh ALPHA,BETA] [--integrator euler|newmark]] [--modes N]\n"
+    "       [--deflate] [-h]";
 
 static const char *help =
     "  FILE                  input stream (default: stdin)\n"
@@ -25,6 +26,8 @@ static const char *help =
     "  --rayleigh ALPHA,BETA Rayleigh damping D = ALPHA M + BETA K (default 0,0)\n"
     "  --integrator euler|newmark  backward Euler (default) or Newmark average\n"
     "                        acceleration (trapezoidal)\n"
+    "  --modes N             the N lowest eigenvalues of K x = lambda M x and their\n"
+    "                        periods (cOND tag modes; ARPACK shift-invert on the factor)\n"
     "  --no-factor           do not write the FACT record\n"
     "  --no-cond             do not estimate cond(K) (no cOND record)\n"
     "  --cond-tol T          relative accuracy of the eigenvalue estimates (default 1e-4)\n"
@@ -34,7 +37,7 @@ static const char *help =
 typedef struct options {
     const char *file;
     int ordering, simplicial, threads, mass, lumped, no_factor, no_cond, deflate;
-    int nmass, ndyn, nray, nint, integrator;
+    int nmass, ndyn, nray, nint, integrator, modes;
     double cond_tol, dt, rayleigh[2];
     aug_dynp dyn;
 } options;
@@ -66,6 +69,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
          .given = &o->nint},
         {AUG_OPT_FLAG("--lumped-mass", &o->lumped)},
         {AUG_OPT_FLAG("--no-factor", &o->no_factor)},
+        {AUG_OPT_INT("--modes", &o->modes, 1, AUG_MODES_MAX, "a count from 1 to 24")},
         {AUG_OPT_FLAG("--no-cond", &o->no_cond)},
         {AUG_OPT_FLAG("--deflate", &o->deflate)},
     };
@@ -75,6 +79,8 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
                                 o->rayleigh[0], o->rayleigh[1]))
         aug_tool_usage(t, "--rayleigh %g,%g: damping factors must be finite and >= 0", o->rayleigh[0],
                        o->rayleigh[1]);
+    if (o->modes && !o->ndyn && !o->nmass && !o->lumped)
+        aug_tool_usage(t, "--modes needs a mass matrix (--mass or --dynamic)");
     if (o->nmass && o->mass == AUG_MAT_ML) o->lumped = 1, o->mass = 0;
     else if (o->nmass) o->mass = 1;
     aug_tool_usage_done(t, synopsis);
@@ -97,7 +103,8 @@ static void run(aug_tool *t, const options *o, const aug_mesh *m, cholmod_common
 {
     aug_err e;
     aug_factor_opts fo = {o->ordering, o->simplicial, o->threads, o->mass, o->lumped,
-                          o->no_factor, o->no_cond, o->cond_tol, o->ndyn ? &o->dyn : NULL};
+                          o->no_factor, o->no_cond, o->cond_tol, o->ndyn ? &o->dyn : NULL,
+                          o->modes};
     aug_tool_check(t, aug_factored_compute(r, m, &fo, cm, &e), &e);
     aug_tool_check(t, aug_factored_write(t->w, r, m, &fo, cm, &e), &e);
 }

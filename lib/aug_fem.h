@@ -90,6 +90,18 @@ typedef struct aug_cond {
 int aug_cond_estimate(cholmod_sparse *K, cholmod_factor *L, double tol, aug_cond *c,
                       cholmod_common *cm, aug_err *e);
 
+/* The nev lowest eigenvalues of K x = lambda M x (lib/fem/modes.c), by
+   ARPACK shift-invert on the factor L of F = cM M + cK K (statics: cM = 0,
+   cK = 1 and L the factor of K), to ARPACK's tolerance tol; unconverged:
+   converged = 0 and NAN, never a number. */
+#define AUG_MODES_MAX 24
+typedef struct aug_modes {
+    int nev, converged, iters;
+    double lambda[AUG_MODES_MAX];
+} aug_modes;
+int aug_modes_lowest(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
+                     double tol, aug_modes *r, cholmod_common *cm, aug_err *e);
+
 /* fELD (field of one step): nodes == NULL means nodes 0..count-1 (not indexed).
    aug_read_field: *nodes is NULL when the record is not indexed; both malloc'd. */
 int aug_write_field(aug_writer *w, int32_t step, int32_t kind, int dim, int64_t count,
@@ -124,6 +136,7 @@ typedef struct aug_factor_opts {
     int ordering, simplicial, threads, mass, lumped, no_factor, no_cond;
     double cond_tol;
     const aug_dynp *dyn;       /* factor --dynamic: the integrator (NULL: statics) */
+    int modes;                 /* factor --modes N: the N lowest of K x = lambda M x */
 } aug_factor_opts;
 /* With dyn set (factor --dynamic), the factored matrix is the integrator's
    A = cM M + cK K (aug_dyn.h) instead of K, with M of dyn->mass; a piece
@@ -138,6 +151,7 @@ typedef struct aug_factored {
     cholmod_factor *L;
     double relres;
     aug_cond cond;
+    aug_modes modes;
     double lnz, fl;            /* CHOLMOD's analysis: nnz(L) and flop count */
     double t_asm, t_an, t_fac, t_sol, t_cond;  /* seconds */
 } aug_factored;

@@ -3,6 +3,7 @@
    solve K a = f, estimate cond(K), and write DOFM, (DYNP,) KMAT, FVEC, FACT,
    cOND, the step-0 fELD (dynamics: fRAM frame 0, at rest), sTAt and tIMe. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "aug_fem.h"
@@ -75,6 +76,13 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
         if (aug_cond_estimate(F, r->L, o->cond_tol, &r->cond, cm, e)) return e->code;
         r->t_cond = aug_now() - t0;
     }
+    if (o->modes) {
+        cholmod_sparse *M = o->dyn ? (o->dyn->mass == AUG_MAT_M ? r->M : r->ML) : r->M ? r->M : r->ML;
+        if (!M) return aug_err_set(e, AUG_EUSAGE, -1, "", "--modes needs a mass matrix");
+        if (aug_modes_lowest(M, r->L, o->dyn ? o->dyn->cM : 0.0, o->dyn ? o->dyn->cK : 1.0, o->modes,
+                             o->cond_tol * 1e-4, &r->modes, cm, e))
+            return e->code;
+    }
     return 0;
 }
 
@@ -102,6 +110,21 @@ int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
         aug_kv_set(&k, "iters_min", r->cond.iters_min);
         aug_kv_set(&k, "tol", o->cond_tol);
         aug_kv_set(&k, "converged", r->cond.converged);
+        if (aug_write_kv(w, "cOND", AUG_NOSTEP, &k, e)) return e->code;
+    }
+    if (o->modes) { /* tag modes: the lowest eigenvalues of K x = lambda M x and their periods */
+        aug_kv_init(&k, "modes");
+        aug_kv_set(&k, "nev", r->modes.nev);
+        aug_kv_set(&k, "converged", r->modes.converged);
+        aug_kv_set(&k, "iters", r->modes.iters);
+        char key[16];
+        for (int i = 0; i < r->modes.nev; i++) {
+            double l = r->modes.lambda[i];
+            snprintf(key, sizeof key, "lambda_%d", i + 1);
+            aug_kv_set(&k, key, l);
+            snprintf(key, sizeof key, "period_%d", i + 1);
+            aug_kv_set(&k, key, l > 0 ? 2 * M_PI / sqrt(l) : NAN);
+        }
         if (aug_write_kv(w, "cOND", AUG_NOSTEP, &k, e)) return e->code;
     }
     double *u = aug_malloc((size_t)(m->nn * m->dim) * sizeof *u + 1);

@@ -73,7 +73,7 @@ struct aug_solver {
        factor and AMPS's fallback factor of the step */
     cholmod_sparse *pcg_K;
     aug_refactor chk, amps_fb;
-    int chk_ok, amps_fb_ok;
+    int chk_ok, amps_fb_ok, prepped;
 };
 
 aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
@@ -781,9 +781,18 @@ static int frame_method(aug_solver *s, int m, const double *b, int32_t frame, au
     return 0;
 }
 
+static int dynamic_step(aug_solver *s, const aug_update *u, int swapped, aug_err *e);
+
 int aug_solver_frame(aug_solver *s, const double *b, int32_t frame, aug_err *e)
 {
     int rc;
+    if (!s->prepped) { /* frames before any step: the per-step work of A_0 */
+        static const int32_t none[1] = {0};
+        static const double zero[1] = {0};
+        aug_update u0 = {0, 0, 0, (int32_t *)none, (double *)zero, (double *)zero, NULL, NULL};
+        if (buffers(s, s->cut.cum.n)) return aug_err_set(e, AUG_ENOMEM, -1, "fRAM", "out of memory");
+        if ((rc = dynamic_step(s, &u0, 0, e))) return rc;
+    }
     for (int oi = 0; oi < s->o.nmeth; oi++)
         if ((rc = frame_method(s, s->o.order[oi], b, frame, e))) return rc;
     if (!s->o.check) return 0;
@@ -805,6 +814,7 @@ static int dynamic_step(aug_solver *s, const aug_update *u, int swapped, aug_err
 {
     step_req q = {u, NULL, 0, 1};
     int rc, unsolved = 0;
+    s->prepped = 1;
     for (int oi = 0; oi < s->o.nmeth; oi++) {
         if ((rc = prep_method(s, s->o.order[oi], &q, swapped, e))) return rc;
         unsolved |= !s->converged[s->o.order[oi]];
