@@ -75,10 +75,15 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if ((o->nray || o->nint) && !o->ndyn) aug_tool_usage(t, "--rayleigh and --integrator need --dynamic");
-    if (o->ndyn && aug_dynp_set(&o->dyn, o->integrator, o->nmass ? o->mass : AUG_MAT_M, o->dt,
-                                o->rayleigh[0], o->rayleigh[1]))
+    if (o->nray && !(o->rayleigh[0] >= 0 && o->rayleigh[1] >= 0 && isfinite(o->rayleigh[0]) &&
+                     isfinite(o->rayleigh[1])))
         aug_tool_usage(t, "--rayleigh %g,%g: damping factors must be finite and >= 0", o->rayleigh[0],
                        o->rayleigh[1]);
+    else if (o->ndyn && o->dt > 0 &&
+             aug_dynp_set(&o->dyn, o->integrator, o->nmass ? o->mass : AUG_MAT_M, o->dt, o->rayleigh[0],
+                          o->rayleigh[1]))
+        aug_tool_usage(t, "--dynamic %g with --rayleigh %g,%g: A = M + a h D + b h^2 K is not finite",
+                       o->dt, o->rayleigh[0], o->rayleigh[1]);
     if (o->modes && !o->ndyn && !o->nmass && !o->lumped)
         aug_tool_usage(t, "--modes needs a mass matrix (--mass or --dynamic)");
     if (o->nmass && o->mass == AUG_MAT_ML) o->lumped = 1, o->mass = 0;

@@ -140,10 +140,11 @@ int aug_dynsim_step(aug_dynsim *d, const aug_update *u, const aug_replay *rp,
         return aug_err_set(e, AUG_EDATA, -1, "MDLT", "the mesh has %lld nodes, the state %lld + %lld "
                            "new", (long long)rp->mesh.nn, (long long)nn_old, (long long)nnew);
     if (grow(d, rp->mesh.nn, (int)dim, 1)) return NOMEM(e);
-    /* new nodes take the displacement and velocity of the node they were copied from */
+    /* new nodes take the displacement and velocity of the node they were copied
+       (or split) from */
     for (int64_t i = 0; i < nnew; i++) {
         int64_t q = parent[i], nd = nn_old + i;
-        if (q < 0 || q >= nn_old)
+        if (q < 0 || q >= nd) /* a parent may be an earlier new node of the step */
             return aug_err_set(e, AUG_EDATA, -1, "MDLT", "new node %lld: parent %lld", (long long)nd,
                                (long long)q);
         for (int c = 0; c < dim; c++) {

@@ -18,6 +18,13 @@ usage: craft.py KIND IN [IN2] > OUT
   after-tail     the stream twice, one after the other
   empty-deflate  + a pROv record with an empty deflated payload
   unsafe-anc     + ancillary records zQZW (unsafe to copy) and zQZw (safe) after the mesh
+  dynp-cm        DYNP with cM changed in its last bits (not the integrator's)
+  dynp-nan       DYNP with h = NaN
+  upkm-drop      every UPKM removed (a dynamic step without its K and M updates)
+  upkm-mk        the first UPKM's k increased by one (its UPDT disagrees)
+  upkm-asym      the first UPKM's EK(0,1) changed, EK(1,0) not
+  fram-nan       the first fRAM's first velocity = NaN
+  kmat-a-drop    the KMAT of kind 3 (A) removed
 """
 import math, struct, sys, zlib
 
@@ -159,6 +166,36 @@ def main():
         i = first(recs, "oUTs") if any(r[0] == "oUTs" for r in recs) else first(recs, "ELEM")
         recs.insert(i + 1, ("zQZw", 0, -1, b"safe to copy"))
         recs.insert(i + 1, ("zQZW", 0, -1, b"unsafe to copy"))
+    elif kind in ("dynp-cm", "dynp-nan"):
+        i = first(recs, "DYNP")
+        p = bytearray(recs[i][3])
+        if kind == "dynp-nan":
+            struct.pack_into("<d", p, 8, math.nan)
+        else:
+            struct.pack_into("<d", p, 32, struct.unpack_from("<d", p, 32)[0] * (1 + 1e-12))
+        put(recs, i, p)
+    elif kind == "upkm-drop":
+        recs = [r for r in recs if r[0] != "UPKM"]
+    elif kind == "upkm-mk":
+        i = first(recs, "UPKM")
+        p = bytearray(recs[i][3])
+        m, k = struct.unpack_from("<ii", p, 0)
+        s = m + k + 1
+        p = struct.pack("<ii", m, k + 1) + bytes(16 * s * s)
+        put(recs, i, p)
+    elif kind == "upkm-asym":
+        i = next(j for j, r in enumerate(recs) if r[0] == "UPKM" and sum(struct.unpack_from("<ii", r[3], 0)) >= 2)
+        p = bytearray(recs[i][3])
+        struct.pack_into("<d", p, 8 + 8 * 1, struct.unpack_from("<d", p, 8 + 8 * 1)[0] + 1.0)
+        put(recs, i, p)
+    elif kind == "fram-nan":
+        i = first(recs, "fRAM")
+        p = bytearray(recs[i][3])
+        fr, dim, cnt, tm, ix = struct.unpack_from("<iiqdi", p, 0)
+        struct.pack_into("<d", p, 32 + (4 * cnt if ix else 0) + 8 * cnt * dim, math.nan)
+        put(recs, i, p)
+    elif kind == "kmat-a-drop":
+        recs = [r for r in recs if not (r[0] == "KMAT" and struct.unpack_from("<i", r[3], 0)[0] == 3)]
     else:
         raise SystemExit(__doc__)
     sys.stdout.buffer.write(build(recs))
