@@ -167,7 +167,7 @@ static void start(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, 
    method's solve, the state advanced by the first method's solution, then
    fRAM, sTAt and tIMe per method and sTAt (tag dynamics) per frame */
 static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
-                   int32_t step, long n, const aug_rec *rec)
+                   int32_t step, long n, double full_ms, const aug_rec *rec)
 {
     aug_err e;
     aug_solver *s = sys->solver;
@@ -209,6 +209,7 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys,
             aug_kv_set(&st, "time", d->time);
             aug_tool_check(t, aug_write_kv(t->w, "sTAt", step, &st, &e), &e);
             aug_kv_set(&tm, "frame", d->frame);
+            aug_kv_set(&tm, "full_solve_ms", full_ms);
             aug_tool_check(t, aug_write_kv(t->w, "tIMe", step, &tm, &e), &e);
         }
         aug_kv k;
@@ -264,7 +265,7 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, d
             aug_tool_check(t, aug_write_kv(t->w, "sTAt", u.step, aug_solver_stat(s, mth), &e), &e);
             aug_tool_check(t, aug_write_kv(t->w, "tIMe", u.step, aug_solver_time(s, mth), &e), &e);
         }
-        frames(t, o, rp, sys, dy, u.step, o->frames, rec);
+        frames(t, o, rp, sys, dy, u.step, o->frames, *full_ms, rec);
         aug_update_free(&u);
         return;
     }
@@ -331,7 +332,7 @@ int main(int argc, char **argv)
     }
     if (sys.dynamic && o.settle > 0) {
         start(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
-        frames(&t, &o, &rp, &sys, &dy, rp.last_step, o.settle, &rec);
+        frames(&t, &o, &rp, &sys, &dy, rp.last_step, o.settle, full_ms, &rec);
     } else if (!sys.dynamic && (o.settle || o.nframes)) {
         aug_tool_die(&t, "%s: --frames and --settle need a dynamic stream (factor --dynamic)", t.inname);
     }
