@@ -100,6 +100,7 @@ static int write_all(FILE *f, uint64_t deflate_min, aug_err *e)
     double E[25], df[5] = {0, 0, 1, 2, 3};
     for (int i = 0; i < 5; i++)
         for (int j = 0; j < 5; j++) E[i + 5 * j] = 1.0 / (1 + i + j);
+    aug_update_init(&u);
     u.step = 1, u.m = 2, u.k = 3, u.H = H, u.E = E, u.df = df;
     if ((rc = aug_write_update(w, &u, e))) goto out;
     aug_buf_i32(&b, 3), aug_buf_i32(&b, 0), aug_buf_i64(&b, 1), aug_buf_f64v(&b, big, 6);
