@@ -1,5 +1,5 @@
 /* factor: mesh stream -> + DOFM, KMAT, FVEC, FACT, cOND and the step-0 solve
-   (fELD, sTAt, tIMe) of the intact scene. */
+   (fELD, rEAC, sTAt, tIMe) of the intact scene. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,7 +9,8 @@
 
 static const char *synopsis =
     "factor [FILE] [--ordering auto|amd|metis] [--simplicial] [--threads N]\n"
-    "       [--mass] [--lumped-mass] [--no-factor] [--no-cond] [--cond-tol T] [--deflate] [-h]";
+    "       [--mass] [--lumped-mass] [--no-factor] [--no-cond] [--cond-tol T] [--no-reactions]\n"
+    "       [--deflate] [-h]";
 
 static const char *help =
     "  FILE                  input stream (default: stdin)\n"
@@ -21,6 +22,7 @@ static const char *help =
     "  --no-factor           do not write the FACT record\n"
     "  --no-cond             do not estimate cond(K) (no cOND record)\n"
     "  --cond-tol T          relative accuracy of the eigenvalue estimates (default 1e-4)\n"
+    "  --no-reactions        no reaction forces of the step-0 solve (no rEAC record)\n"
     "  --deflate             zlib-deflate payloads of 64 KiB and more\n"
     "  -h                    this help; see factor(1)\n";
 
@@ -28,6 +30,7 @@ typedef struct options {
     const char *file;
     int ordering, simplicial, threads, mass, lumped, no_factor, no_cond, deflate;
     double cond_tol;
+    int no_reactions;
 } options;
 
 static const aug_word orderings[] = {
@@ -49,6 +52,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--lumped-mass", &o->lumped)},
         {AUG_OPT_FLAG("--no-factor", &o->no_factor)},
         {AUG_OPT_FLAG("--no-cond", &o->no_cond)},
+        {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},
         {AUG_OPT_FLAG("--deflate", &o->deflate)},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
@@ -72,7 +76,7 @@ static void run(aug_tool *t, const options *o, const aug_mesh *m, cholmod_common
 {
     aug_err e;
     aug_factor_opts fo = {o->ordering, o->simplicial, o->threads, o->mass, o->lumped,
-                          o->no_factor, o->no_cond, o->cond_tol};
+                          o->no_factor, o->no_cond, o->cond_tol, o->no_reactions};
     aug_tool_check(t, aug_factored_compute(r, m, &fo, cm, &e), &e);
     aug_tool_check(t, aug_factored_write(t->w, r, m, &fo, cm, &e), &e);
 }

@@ -1,5 +1,6 @@
 /* solve-aug: factor + update records -> per step the displacement field of the
-   output set and per-method sTAt/tIMe (AMPS, augmented GMRES, baselines). */
+   output set, the reaction forces and per-method sTAt/tIMe (AMPS, augmented
+   GMRES, baselines). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,7 +14,7 @@ static const char *synopsis =
     "          [--output all|surface|SET] [--refine-iter N] [--refine-tol R]\n"
     "          [--amps-target R] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
-    "          [--reach path|cholmod] [--threads N] [--time-full] [-h]";
+    "          [--reach path|cholmod] [--threads N] [--time-full] [--no-reactions] [-h]";
 
 static const char *help =
     "  FILE                 input stream (default: stdin)\n"
@@ -41,6 +42,7 @@ static const char *help =
     "  --threads N          threads of CHOLMOD and OpenBLAS (default 1)\n"
     "  --time-full          time one full CHOLMOD solve of the base every step\n"
     "                       (full_solve_ms; default: the median of 5 at the start)\n"
+    "  --no-reactions       no reaction forces (rEAC) per step\n"
     "  -h                   this help; see solve-aug(1)\n";
 
 typedef struct options {
@@ -48,6 +50,7 @@ typedef struct options {
     aug_solver_opts so;
     int on_singular_report;
     int time_full;
+    int no_reactions;
 } options;
 
 static const aug_word precs[] = {
@@ -76,6 +79,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_CALL("--method", methods, so, "a comma list of amps,gmres,refactor,rowupdate,pcg")},
         {AUG_OPT_FLAG("--check", &so->check)},
         {AUG_OPT_FLAG("--time-full", &o->time_full)},
+        {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},
         {AUG_OPT_FLAG("--background", &so->background)},
         {AUG_OPT_INT("--bg-lag", &so->bg_lag, 1, 1000000, "a count >= 1"), .given = &nlag},
         {AUG_OPT_STRING("--output", &o->output, "all, surface or a set name"), .flags = AUG_OPT_NONEMPTY},
@@ -125,10 +129,10 @@ static void report(aug_tool *t, const options *o, aug_solver *s, const aug_rec *
                 (int)step, names);
 }
 
-/* one UPDT: every method solves K_t; the first one's field on the output set,
-   then sTAt and tIMe per method */
+/* one UPDT: every method solves K_t; the first one's field on the output set
+   and the reaction forces (rs, NULL: none), then sTAt and tIMe per method */
 static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, double *full_ms,
-                 const aug_rec *rec)
+                 const aug_rec *rec, aug_react *rs)
 {
     aug_err e;
     aug_update u;
@@ -141,6 +145,7 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, d
     const int32_t *out;
     int64_t nout;
     aug_tool_check(t, aug_replay_out_dofs(rp, &out, &nout, &e), &e);
+    if (rs) aug_tool_check(t, aug_react_out_dofs(rs, &out, &nout, &e), &e);
     int flags = rp->nmdlt && rp->mdlt_step == u.step ? rp->mdlt_flags : 0;
     if (aug_solver_step(s, &u, aug_replay_all(rp) ? NULL : out, nout, flags, &e)) {
         e.record = rec->index;
@@ -152,6 +157,8 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, d
     int first = o->so.order[0];
     if (!aug_solver_singular(s, first) && (rp->mesh.have & AUG_HAVE_NODE))
         aug_tool_check(t, aug_replay_write_field(t->w, rp, u.step, aug_solver_field(s, first), &e), &e);
+    if (rs && !aug_solver_singular(s, first) && (rp->mesh.have & AUG_HAVE_NODE))
+        aug_tool_check(t, aug_react_write(t->w, rs, u.step, aug_solver_field(s, first), NULL, &e), &e);
     /* the reference a step is compared with, timed next to it (bench) */
     if (o->time_full) *full_ms = aug_solver_full_solve_ms(s, 1);
     for (int i = 0; i < o->so.nmeth; i++) {
@@ -170,6 +177,7 @@ int main(int argc, char **argv)
     options o;
     aug_err e;
     aug_replay rp;
+    aug_react rs;
     aug_sys0 sys;
     aug_rec rec;
     double full_ms = 0;
@@ -181,12 +189,13 @@ int main(int argc, char **argv)
     aug_tool_open_out(&t);
     aug_replay_init(&rp);
     rp.output = o.output;
+    aug_react_init(&rs, o.no_reactions ? NULL : &rp);
     aug_tool_check(&t, aug_sys0_init(&sys, &e), &e);
     while (aug_tool_read(&t, &rec)) {
         aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
         aug_tool_check(&t, aug_sys0_add(&sys, &rec, &e), &e);
         if (!memcmp(rec.type, "UPDT", 4)) {
-            step(&t, &o, &rp, &sys, &full_ms, &rec);
+            step(&t, &o, &rp, &sys, &full_ms, &rec, o.no_reactions ? NULL : &rs);
             aug_progress(&t, rec.step, 0);
         }
         else aug_tool_pass(&t, &rec);
@@ -194,6 +203,7 @@ int main(int argc, char **argv)
     aug_tool_close(&t);
     aug_rec_free(&rec);
     aug_sys0_free(&sys);
+    aug_react_free(&rs);
     aug_replay_free(&rp);
     return 0;
 }

@@ -46,6 +46,9 @@ typedef struct aug_replay {
     int32_t mdlt_step, mdlt_flags; /* the latest MDLT's step, flags (AUG_STEP_*) and counts */
     int64_t mdlt_nnew, mdlt_nmod, mdlt_nadd;
     int32_t *out_dof;          /* aug_replay_out_dofs' array */
+    int track;                 /* 1: note in chg the elements each applied MDLT re-wires or adds */
+    int32_t *chg;              /* ... until its reader (aug_react_sync) empties it */
+    int64_t nchg, chgcap;
 } aug_replay;
 void aug_replay_init(aug_replay *r);
 void aug_replay_free(aug_replay *r);
@@ -61,6 +64,52 @@ int aug_replay_out_dofs(aug_replay *r, const int32_t **dofs, int64_t *n, aug_err
 /* fELD (kind 0) of the solution x of step `step` on the output set. */
 int aug_replay_write_field(aug_writer *w, const aug_replay *r, int32_t step, const double *x,
                            aug_err *e);
+
+/* ---- Reaction forces of the replayed steps (lib/cut/reaction_step.c) ----
+   The elements touching a constrained DOF of the replay's mesh (aug_react_elements),
+   followed step by step through the elements each MDLT re-wires or adds (the
+   replay notes them once aug_react_init set its track flag) and rebuilt when a
+   BDLT constrains a node that was there before; the cut-matrix DOFs the
+   reactions read; the rEAC of a step or frame (aug_reaction_compute on the
+   nodal field of the solution). */
+typedef struct aug_react {
+    aug_replay *rp;
+    int synced;
+    int64_t nn, ne, nfix_old;    /* the mesh at the last sync */
+    unsigned char *cnode, *in;   /* per node: has a constrained DOF; per element: listed */
+    int32_t *elems;              /* the elements touching a constrained DOF, increasing */
+    int64_t nel, elcap;
+    int32_t *dofs;               /* aug_react_out_dofs' array */
+    int64_t dofcap;
+    double *u, *v, *a;           /* nodal fields, valid at the nodes of elems */
+    int64_t ucap, vcap;
+    aug_reaction q;
+} aug_react;
+/* Dynamics of one frame for aug_react_write: velocity and acceleration in the
+   cut-matrix numbering (0 at a DOF outside it), Rayleigh alpha, beta, mass kind. */
+typedef struct aug_react_frame {
+    int32_t frame;
+    double time;
+    const double *xv, *xa;
+    double alpha, beta;
+    int lumped;
+} aug_react_frame;
+/* rp NULL: an unused s that aug_react_free accepts (rp is not tracked) */
+void aug_react_init(aug_react *s, aug_replay *rp);
+void aug_react_free(aug_react *s);
+/* The element list made to match the replay's mesh now. */
+int aug_react_sync(aug_react *s, aug_err *e);
+/* *out (increasing matrix indices requested of a step, as from
+   aug_replay_out_dofs; NULL: all, left so) := its union with the indices of
+   every node of the elements touching a constrained DOF (s's array, valid
+   until the next call): what a solve restricted to an output set must also
+   solve for the reactions. Syncs first. */
+int aug_react_out_dofs(aug_react *s, const int32_t **out, int64_t *nout, aug_err *e);
+/* rEAC of `step` from the solution x of K_t (cut-matrix numbering; a DOF
+   outside the matrix at its prescribed value, as in aug_replay_write_field);
+   fr NULL in statics (frame 0, time 0). Syncs first. */
+int aug_react_write(aug_writer *w, aug_react *s, int32_t step, const double *x,
+                    const aug_react_frame *fr, aug_err *e);
 
 /* ---- BDLT: building one (aug_bdelta in aug_update.h) ---- */
 /* Append a constraint / a load (duplicates: the last one wins at finish). 0 or -1 (memory). */

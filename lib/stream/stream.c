@@ -48,6 +48,7 @@ static const aug_rectype table[] = {
     {"UPDT", 8, AUG_MAX_BODY, 3, 0, 1, &aug_codec_updt},
     {"pATH", 16, AUG_MAX_BODY, 3, 0, 1, &aug_codec_path},
     {"fELD", 24, AUG_MAX_BODY, 3, 0, 1, &aug_codec_feld},
+    {"rEAC", 48, AUG_MAX_BODY, 3, 0, 1, &aug_codec_reac},
     {"sTAt", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
     {"tIMe", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
     {"qUAl", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
