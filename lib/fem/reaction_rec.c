@@ -98,11 +98,16 @@ int aug_read_reaction(const aug_rec *rec, aug_reaction *q, aug_err *e)
         c.pos += AUG_NAME;
         aug_cur_f64v(&c, q->res + s * d, (uint64_t)d);
     }
-    for (int64_t k = 0; k < n; k++)
-        if (q->dof[k] < 0 || (k > 0 && q->dof[k] <= q->dof[k - 1]) || !isfinite(q->r[k]))
+    for (int64_t k = 0; k < n; k++) {
+        if (q->dof[k] < 0 || (k > 0 && q->dof[k] <= q->dof[k - 1]))
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
-                               "entry %lld: DOF %d not increasing or reaction not finite",
-                               (long long)k, (int)q->dof[k]);
+                               "entry %lld: DOF %d is negative or does not increase", (long long)k,
+                               (int)q->dof[k]);
+        if (!isfinite(q->r[k]))
+            return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
+                               "entry %lld: the reaction at DOF %d is not finite", (long long)k,
+                               (int)q->dof[k]);
+    }
     for (int k = 0; k < d; k++)
         if (!isfinite(q->total[k]))
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "total not finite");

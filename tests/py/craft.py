@@ -18,6 +18,10 @@ usage: craft.py KIND IN [IN2] > OUT
   after-tail     the stream twice, one after the other
   empty-deflate  + a pROv record with an empty deflated payload
   unsafe-anc     + ancillary records zQZW (unsafe to copy) and zQZw (safe) after the mesh
+  reac-order     the last rEAC with its first two DOFs exchanged (not increasing)
+  reac-nan       the last rEAC's first reaction = NaN
+  reac-long      the last rEAC with 8 bytes more than its counts say
+  reac-name      the last rEAC with two sets, its second one named as its first
 """
 import math, struct, sys, zlib
 
@@ -159,6 +163,27 @@ def main():
         i = first(recs, "oUTs") if any(r[0] == "oUTs" for r in recs) else first(recs, "ELEM")
         recs.insert(i + 1, ("zQZw", 0, -1, b"safe to copy"))
         recs.insert(i + 1, ("zQZW", 0, -1, b"unsafe to copy"))
+    elif kind.startswith("reac-"):
+        i = max(k for k, r in enumerate(recs) if r[0] == "rEAC")
+        p = bytearray(recs[i][3])
+        dim, _, _, n, nset = struct.unpack_from("<iidqq", p, 0)   # dim, frame, time, n, nset
+        if kind == "reac-order":
+            assert n >= 2
+            a, b = struct.unpack_from("<ii", p, 32)
+            struct.pack_into("<ii", p, 32, b, a)
+        elif kind == "reac-nan":
+            struct.pack_into("<d", p, 32 + 4 * n, math.nan)
+        elif kind == "reac-long":
+            p += struct.pack("<d", 0.0)
+        elif kind == "reac-name":
+            assert nset >= 1
+            sets = 32 + 12 * n + 8 * dim
+            one = p[sets:sets + 64 + 8 * dim]
+            p = p[:sets] + one + one + p[sets + (64 + 8 * dim) * nset:]
+            struct.pack_into("<q", p, 24, 2)
+        else:
+            raise SystemExit(__doc__)
+        put(recs, i, p)
     else:
         raise SystemExit(__doc__)
     sys.stdout.buffer.write(build(recs))
