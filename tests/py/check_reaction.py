@@ -143,11 +143,7 @@ def check(sc, f, u, rel):
 
 def main():
     args = sys.argv[1:]
-    rel = 1e-10
-    if "--rel" in args:
-        i = args.index("--rel")
-        rel = float(args[i + 1])
-        del args[i:i + 2]
+    rel = cutsys.rel_option(args, 1e-10)
     if len(args) != 2:
         raise SystemExit(__doc__)
     recs = augstream.records(open(args[0], "rb").read())

@@ -173,27 +173,28 @@ static void test_resultants_and_balance(void)
     aug_mesh_free(&m);
 }
 
-/* the payload of q written as a record and read back */
+/* the payload of q as its writer frames it, read back from a memory stream */
 static int one_record(const aug_reaction *q, unsigned char **p, uint64_t *len)
 {
     aug_err e;
-    FILE *f = tmpfile();
+    char *buf = NULL;
+    size_t n = 0;
+    FILE *f = open_memstream(&buf, &n);
     aug_writer *w = aug_writer_open(f, "test", &e);
-    int rc = aug_write_reaction(w, 4, q, &e);
-    aug_writer_close(w, &e);
+    int rc = !w || aug_write_reaction(w, 4, q, &e) || aug_writer_close(w, &e);
     aug_writer_free(w);
-    rewind(f);
-    aug_reader *r = aug_reader_open(f, "tmp", &e);
+    fclose(f);
+    FILE *g = fmemopen(buf, n, "r");
+    aug_reader *r = rc ? NULL : aug_reader_open(g, "mem", &e);
     aug_rec rec;
     memset(&rec, 0, sizeof rec);
-    if (!rc && r && aug_read(r, &rec, &e) == 1) {
-        *p = malloc(rec.len);
-        memcpy(*p, rec.data, rec.len);
-        *len = rec.len;
-    } else rc = -1;
+    for (rc = -1; r && aug_read(r, &rec, &e) == 1;)
+        if (!memcmp(rec.type, "rEAC", 4) && (*p = malloc(rec.len)))
+            memcpy(*p, rec.data, rec.len), *len = rec.len, rc = 0;
     aug_rec_free(&rec);
     aug_reader_free(r);
-    fclose(f);
+    fclose(g);
+    free(buf);
     return rc;
 }
 
