@@ -1,5 +1,5 @@
 /* factor: mesh stream -> + DOFM, KMAT, FVEC, FACT, cOND and the step-0 solve
-   (fELD, sTAt, tIMe) of the intact scene. */
+   (fELD, rEAC, sTAt, tIMe) of the intact scene. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +11,7 @@ static const char *synopsis =
     "factor [FILE] [--ordering auto|amd|metis] [--simplicial] [--threads N]\n"
     "       [--mass consistent|lumped] [--lumped-mass] [--no-factor] [--no-cond] [--cond-tol T]\n"
     "       [--dynamic DT [--rayleigh ALPHA,BETA] [--integrator euler|newmark]] [--modes N]\n"
+    "       [--no-reactions]\n"
     "       [--deflate] [-h]";
 
 static const char *help =
@@ -31,6 +32,7 @@ static const char *help =
     "  --no-factor           do not write the FACT record\n"
     "  --no-cond             do not estimate cond(K) (no cOND record)\n"
     "  --cond-tol T          relative accuracy of the eigenvalue estimates (default 1e-4)\n"
+    "  --no-reactions        no reaction forces of the step-0 solve (no rEAC record)\n"
     "  --deflate             zlib-deflate payloads of 64 KiB and more\n"
     "  -h                    this help; see factor(1)\n";
 
@@ -40,6 +42,7 @@ typedef struct options {
     int nmass, ndyn, nray, nint, integrator, modes;
     double cond_tol, dt, rayleigh[2];
     aug_dynp dyn;
+    int no_reactions;
 } options;
 
 static const aug_word masses[] = {{"consistent", AUG_MAT_M}, {"lumped", AUG_MAT_ML}, {NULL, 0}};
@@ -71,6 +74,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--no-factor", &o->no_factor)},
         {AUG_OPT_INT("--modes", &o->modes, 1, AUG_MODES_MAX, "a count from 1 to 24")},
         {AUG_OPT_FLAG("--no-cond", &o->no_cond)},
+        {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},
         {AUG_OPT_FLAG("--deflate", &o->deflate)},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
@@ -109,7 +113,7 @@ static void run(aug_tool *t, const options *o, const aug_mesh *m, cholmod_common
     aug_err e;
     aug_factor_opts fo = {o->ordering, o->simplicial, o->threads, o->mass, o->lumped,
                           o->no_factor, o->no_cond, o->cond_tol, o->ndyn ? &o->dyn : NULL,
-                          o->modes};
+                          o->modes, o->no_reactions};
     aug_tool_check(t, aug_factored_compute(r, m, &fo, cm, &e), &e);
     aug_tool_check(t, aug_factored_write(t->w, r, m, &fo, cm, &e), &e);
 }

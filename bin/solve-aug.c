@@ -1,5 +1,6 @@
 /* solve-aug: factor + update records -> per step the displacement field of the
-   output set and per-method sTAt/tIMe (AMPS, augmented GMRES, baselines). */
+   output set, the reaction forces and per-method sTAt/tIMe (AMPS, augmented
+   GMRES, baselines). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,7 +14,8 @@ static const char *synopsis =
     "          [--output all|surface|SET] [--refine-iter N] [--refine-tol R]\n"
     "          [--amps-target R] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
-    "          [--reach path|cholmod] [--threads N] [--time-full] [--frames N] [--settle N] [-h]";
+    "          [--reach path|cholmod] [--threads N] [--time-full] [--frames N] [--settle N]\n"
+    "          [--no-reactions] [-h]";
 
 static const char *help =
     "  FILE                 input stream (default: stdin)\n"
@@ -43,6 +45,7 @@ static const char *help =
     "  --settle N           dynamic stream: frames after the last step (default 0)\n"
     "  --time-full          time one full CHOLMOD solve of the base every step\n"
     "                       (full_solve_ms; default: the median of 5 at the start)\n"
+    "  --no-reactions       no reaction forces (rEAC) per step\n"
     "  -h                   this help; see solve-aug(1)\n";
 
 typedef struct options {
@@ -51,6 +54,7 @@ typedef struct options {
     int on_singular_report;
     int time_full;
     int frames, settle, nframes;
+    int no_reactions;
 } options;
 
 static const aug_word precs[] = {
@@ -80,6 +84,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_CALL("--method", methods, so, "a comma list of amps,gmres,refactor,rowupdate,pcg")},
         {AUG_OPT_FLAG("--check", &so->check)},
         {AUG_OPT_FLAG("--time-full", &o->time_full)},
+        {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},
         {AUG_OPT_FLAG("--background", &so->background)},
         {AUG_OPT_INT("--bg-lag", &so->bg_lag, 1, 1000000, "a count >= 1"), .given = &nlag},
         {AUG_OPT_STRING("--output", &o->output, "all, surface or a set name"), .flags = AUG_OPT_NONEMPTY},
@@ -167,7 +172,7 @@ static void start(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, 
    method's solve, the state advanced by the first method's solution, then
    fRAM, sTAt and tIMe per method and sTAt (tag dynamics) per frame */
 static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
-                   int32_t step, long n, double full_ms, const aug_rec *rec)
+                   int32_t step, long n, double full_ms, const aug_rec *rec, aug_react *rs)
 {
     aug_err e;
     aug_solver *s = sys->solver;
@@ -203,6 +208,10 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys,
         double t_adv = aug_now() - t0;
         if (rp->mesh.have & AUG_HAVE_NODE)
             aug_tool_check(t, aug_replay_write_frame(t->w, rp, step, d->frame, d->time, d->u, d->v, &e), &e);
+        if (rs && (rp->mesh.have & AUG_HAVE_NODE)) {
+            aug_react_frame fr = {d->frame, d->time, d->v, d->acc, d->p.alpha, d->p.beta, d->p.mass == 2};
+            aug_tool_check(t, aug_react_write(t->w, rs, step, d->u, &fr, &e), &e);
+        }
         for (int i = 0; i < o->so.nmeth; i++) {
             int mth = o->so.order[i];
             aug_kv st = *aug_solver_stat(s, mth), tm = *aug_solver_time(s, mth);
@@ -229,10 +238,11 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys,
     }
 }
 
-/* one UPDT: every method solves K_t; the first one's field on the output set,
-   then sTAt and tIMe per method */
+/* one UPDT: every method solves K_t; the first one's field on the output set
+   and the reaction forces (rs, NULL: none), then sTAt and tIMe per method;
+   dynamic: the step's frames */
 static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
-                 double *full_ms, const aug_rec *rec)
+                 double *full_ms, const aug_rec *rec, aug_react *rs)
 {
     aug_err e;
     aug_update u;
@@ -249,6 +259,7 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, d
     const int32_t *out;
     int64_t nout;
     aug_tool_check(t, aug_replay_out_dofs(rp, &out, &nout, &e), &e);
+    if (rs) aug_tool_check(t, aug_react_out_dofs(rs, &out, &nout, &e), &e);
     int flags = rp->nmdlt && rp->mdlt_step == u.step ? rp->mdlt_flags : 0;
     if (aug_solver_step(s, &u, aug_replay_all(rp) ? NULL : out, nout, flags, &e)) {
         e.record = rec->index;
@@ -265,13 +276,15 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, d
             aug_tool_check(t, aug_write_kv(t->w, "sTAt", u.step, aug_solver_stat(s, mth), &e), &e);
             aug_tool_check(t, aug_write_kv(t->w, "tIMe", u.step, aug_solver_time(s, mth), &e), &e);
         }
-        frames(t, o, rp, sys, dy, u.step, o->frames, *full_ms, rec);
+        frames(t, o, rp, sys, dy, u.step, o->frames, *full_ms, rec, rs);
         aug_update_free(&u);
         return;
     }
     int first = o->so.order[0];
     if (!aug_solver_singular(s, first) && (rp->mesh.have & AUG_HAVE_NODE))
         aug_tool_check(t, aug_replay_write_field(t->w, rp, u.step, aug_solver_field(s, first), &e), &e);
+    if (rs && !aug_solver_singular(s, first) && (rp->mesh.have & AUG_HAVE_NODE))
+        aug_tool_check(t, aug_react_write(t->w, rs, u.step, aug_solver_field(s, first), NULL, &e), &e);
     /* the reference a step is compared with, timed next to it (bench) */
     if (o->time_full) *full_ms = aug_solver_full_solve_ms(s, 1);
     for (int i = 0; i < o->so.nmeth; i++) {
@@ -290,6 +303,7 @@ int main(int argc, char **argv)
     options o;
     aug_err e;
     aug_replay rp;
+    aug_react rs;
     aug_sys0 sys;
     aug_rec rec;
     double full_ms = 0;
@@ -301,6 +315,7 @@ int main(int argc, char **argv)
     aug_tool_open_out(&t);
     aug_replay_init(&rp);
     rp.output = o.output;
+    aug_react_init(&rs, o.no_reactions ? NULL : &rp);
     aug_tool_check(&t, aug_sys0_init(&sys, &e), &e);
     dyn dy;
     memset(&dy, 0, sizeof dy);
@@ -312,7 +327,7 @@ int main(int argc, char **argv)
         aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
         aug_tool_check(&t, aug_sys0_add(&sys, &rec, &e), &e);
         if (!memcmp(rec.type, "UPDT", 4)) {
-            step(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
+            step(&t, &o, &rp, &sys, &dy, &full_ms, &rec, o.no_reactions ? NULL : &rs);
             aug_progress(&t, rec.step, 0);
             continue;
         }
@@ -332,7 +347,7 @@ int main(int argc, char **argv)
     }
     if (sys.dynamic && o.settle > 0) {
         start(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
-        frames(&t, &o, &rp, &sys, &dy, rp.last_step, o.settle, full_ms, &rec);
+        frames(&t, &o, &rp, &sys, &dy, rp.last_step, o.settle, full_ms, &rec, o.no_reactions ? NULL : &rs);
     } else if (!sys.dynamic && (o.settle || o.nframes)) {
         aug_tool_die(&t, "%s: --frames and --settle need a dynamic stream (factor --dynamic)", t.inname);
     }
@@ -343,6 +358,7 @@ int main(int argc, char **argv)
     free(dy.b);
     aug_rec_free(&rec);
     aug_sys0_free(&sys);
+    aug_react_free(&rs);
     aug_replay_free(&rp);
     return 0;
 }

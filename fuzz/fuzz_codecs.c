@@ -123,6 +123,7 @@ typedef struct step_obj {
     aug_bdelta b;
     aug_pathrec p;
     aug_kv kv;
+    aug_reaction q;
     const aug_mesh *m;
 } step_obj;
 
@@ -142,6 +143,11 @@ static int put_bdelta(aug_writer *w, const void *o, aug_err *e)
 static int put_path(aug_writer *w, const void *o, aug_err *e)
 {
     return aug_write_path(w, &((const step_obj *)o)->p, e);
+}
+static int put_reaction(aug_writer *w, const void *o, aug_err *e)
+{
+    const step_obj *s = o;
+    return aug_write_reaction(w, s->step, &s->q, e);
 }
 static int put_kv(aug_writer *w, const void *o, aug_err *e)
 {
@@ -233,6 +239,8 @@ static void typed_step(const aug_rec *rec, const aug_mesh *m)
         if (!aug_read_bdelta(rec, &s.b, &e)) roundtrip1("BDLT", put_bdelta, &s, rec->index % 2);
     } else if (is(rec, "pATH")) {
         if (!aug_read_path(rec, &s.p, &e)) roundtrip1("pATH", put_path, &s, rec->index % 2);
+    } else if (is(rec, "rEAC")) {
+        if (!aug_read_reaction(rec, &s.q, &e)) roundtrip1("rEAC", put_reaction, &s, rec->index % 2);
     } else if (is(rec, "cOND") || is(rec, "sTAt") || is(rec, "tIMe") || is(rec, "qUAl")) {
         if (!aug_read_kv(rec, &s.kv, &e)) roundtrip1(rec->type, put_kv, &s, rec->index % 2);
     } else if (is(rec, "pROv") && !aug_read_prov(rec, &text, &e)) {
@@ -243,6 +251,7 @@ static void typed_step(const aug_rec *rec, const aug_mesh *m)
     aug_update_free(&s.u);
     aug_bdelta_free(&s.b);
     aug_pathrec_free(&s.p);
+    aug_reaction_free(&s.q);
 }
 
 /* the payload through the check and dump of another record type whose length

@@ -49,6 +49,9 @@ typedef struct aug_replay {
     int32_t *out_dof;          /* aug_replay_out_dofs' array */
     int dynamic;               /* a DYNP was read (formats/stream.md 6.6) into dyn */
     aug_dynp dyn;
+    int track;                 /* 1: note in chg the elements each applied MDLT re-wires or adds */
+    int32_t *chg;              /* ... until its reader (aug_react_sync) empties it */
+    int64_t nchg, chgcap;
 } aug_replay;
 void aug_replay_init(aug_replay *r);
 void aug_replay_free(aug_replay *r);
@@ -67,6 +70,54 @@ int aug_replay_write_frame(aug_writer *w, const aug_replay *r, int32_t step, int
                            double time, const double *u, const double *v, aug_err *e);
 int aug_replay_write_field(aug_writer *w, const aug_replay *r, int32_t step, const double *x,
                            aug_err *e);
+
+/* ---- Reaction forces of the replayed steps (lib/cut/reaction_step.c) ----
+   The elements touching a constrained DOF of the replay's mesh (aug_react_elements),
+   followed step by step through the elements each MDLT re-wires or adds (the
+   replay notes them once aug_react_init set its track flag) and rebuilt when a
+   BDLT constrains a node that was there before; the cut-matrix DOFs the
+   reactions read; the rEAC of a step or frame (aug_reaction_compute on the
+   nodal field of the solution). */
+typedef struct aug_react {
+    aug_replay *rp;
+    int synced;
+    int64_t nn, ne, nfix_old;    /* the mesh at the last sync */
+    unsigned char *cnode, *in;   /* per node: has a constrained DOF; per element: listed */
+    int32_t *elems;              /* the elements touching a constrained DOF, increasing */
+    int64_t nel, elcap;
+    int32_t *dofs;               /* aug_react_out_dofs' array */
+    int64_t dofcap;
+    double *u;                   /* nodal displacement, valid at the nodes of elems */
+    int64_t ucap;
+    aug_reaction q;
+} aug_react;
+/* Dynamics of one frame for aug_react_write: the nodal velocity and
+   acceleration (nn*dim, every DOF, constrained ones moving at their rate),
+   Rayleigh alpha, beta, mass kind. */
+typedef struct aug_react_frame {
+    int32_t frame;
+    double time;
+    const double *v, *a;
+    double alpha, beta;
+    int lumped;
+} aug_react_frame;
+/* rp NULL: an unused s that aug_react_free accepts (rp is not tracked) */
+void aug_react_init(aug_react *s, aug_replay *rp);
+void aug_react_free(aug_react *s);
+/* The element list made to match the replay's mesh now. */
+int aug_react_sync(aug_react *s, aug_err *e);
+/* *out (increasing matrix indices requested of a step, as from
+   aug_replay_out_dofs; NULL: all, left so) := its union with the indices of
+   every node of the elements touching a constrained DOF (s's array, valid
+   until the next call): what a solve restricted to an output set must also
+   solve for the reactions. Syncs first. */
+int aug_react_out_dofs(aug_react *s, const int32_t **out, int64_t *nout, aug_err *e);
+/* rEAC of `step` from the solution x of K_t (cut-matrix numbering; a DOF
+   outside the matrix at its prescribed value, as in aug_replay_write_field);
+   fr NULL in statics (frame 0, time 0); with fr (dynamics) x is the nodal
+   displacement (nn*dim). Syncs first. */
+int aug_react_write(aug_writer *w, aug_react *s, int32_t step, const double *x,
+                    const aug_react_frame *fr, aug_err *e);
 
 /* ---- BDLT: building one (aug_bdelta in aug_update.h) ---- */
 /* Append a constraint / a load (duplicates: the last one wins at finish). 0 or -1 (memory). */

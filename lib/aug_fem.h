@@ -123,6 +123,51 @@ int aug_write_frame(aug_writer *w, int32_t step, const aug_frame *f, aug_err *e)
 /* fills f (malloc'd arrays; aug_frame_free also on error) */
 int aug_read_frame(const aug_rec *rec, aug_frame *f, aug_err *e);
 void aug_frame_free(aug_frame *f);
+/* Reaction forces (lib/fem/reaction.c; paper 000 eq. 9: the unknown at a
+   constrained DOF), r = (M a + D v + K u - f) on the constrained DOFs of m,
+   D = alpha M + beta K. Statics: dyn = NULL, r = (K u - f)_C. */
+typedef struct aug_react_dyn {
+    const double *v, *a;        /* nodal velocity and acceleration (nn*dim) */
+    double alpha, beta;         /* Rayleigh damping D = alpha M + beta K */
+    int lumped;                 /* M row-sum lumped (1) or consistent (0) */
+} aug_react_dyn;
+/* Elements with a node that has a constrained DOF, increasing (*elems
+   malloc'd); their count, -1 when out of memory. */
+int64_t aug_react_elements(const aug_mesh *m, int32_t **elems);
+/* r[k] at dof m->fix_dof[k], summed element by element over elems[0..nel)
+   (increasing, a superset of the elements touching a constrained DOF); u (and
+   dyn's v, a) are read at the nodes of elems only. */
+void aug_reactions(const aug_mesh *m, const int32_t *elems, int64_t nel, const double *u,
+                   const aug_react_dyn *dyn, double *r);
+/* rEAC (formats/stream.md 7.10): the reactions of one step (frame): every
+   constrained DOF, increasing, with its reaction, the total per component,
+   and per named set holding a constrained DOF its resultant (dim values). */
+typedef struct aug_reaction {
+    int dim;
+    int32_t frame;              /* 0 in statics */
+    double time;                /* 0 in statics */
+    int64_t n;
+    int32_t *dof;               /* node*dim + c, strictly increasing */
+    double *r;
+    double total[3];
+    int64_t nset;
+    char (*name)[AUG_NAME];
+    double *res;                /* nset*dim */
+    int64_t cap, setcap;        /* allocated entries of dof/r and name/res */
+} aug_reaction;
+void aug_reaction_free(aug_reaction *q);
+/* Room for n DOFs and nset sets in q, contents kept: 0, or -1 (memory). */
+int aug_reaction_reserve(aug_reaction *q, int64_t n, int64_t nset);
+/* q := the reactions of m (aug_reactions), their total and the resultant of
+   every set of m holding a constrained DOF (set order of m); q's arrays are
+   reused; frame and time are not touched. */
+int aug_reaction_compute(aug_reaction *q, const aug_mesh *m, const int32_t *elems, int64_t nel,
+                         const double *u, const aug_react_dyn *dyn, aug_err *e);
+/* Codec (lib/fem/reaction_rec.c): the read checks sizes, dimension, frame,
+   increasing DOFs, finite values and set names before it fills q (zeroed or
+   from an earlier read; free with aug_reaction_free). */
+int aug_write_reaction(aug_writer *w, int32_t step, const aug_reaction *q, aug_err *e);
+int aug_read_reaction(const aug_rec *rec, aug_reaction *q, aug_err *e);
 
 /* Node -> element incidence (CSR, elements increasing): elements of node i are
    ind[ptr[i] .. ptr[i+1]-1]. Both malloc'd; -1 on allocation failure. */
@@ -131,12 +176,13 @@ int aug_node_elements(const aug_mesh *m, int64_t **ptr, int32_t **ind);
 /* factor's computation on the intact scene (lib/fem/factor_scene.c): K (M,
    lumped M), f, the factor L of K with CHOLMOD, a = K^-1 f with its relres,
    cond(K) by ARPACK unless no_cond; then its records DOFM KMAT FVEC FACT cOND
-   fELD (step 0) sTAt tIMe. */
+   fELD (step 0), rEAC (step 0, unless no_reactions) sTAt tIMe. */
 typedef struct aug_factor_opts {
     int ordering, simplicial, threads, mass, lumped, no_factor, no_cond;
     double cond_tol;
     const aug_dynp *dyn;       /* factor --dynamic: the integrator (NULL: statics) */
     int modes;                 /* factor --modes N: the N lowest of K x = lambda M x */
+    int no_reactions;
 } aug_factor_opts;
 /* With dyn set (factor --dynamic), the factored matrix is the integrator's
    A = cM M + cK K (aug_dyn.h) instead of K, with M of dyn->mass; a piece

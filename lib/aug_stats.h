@@ -6,6 +6,7 @@
 #ifndef AUG_STATS_H
 #define AUG_STATS_H
 
+#include "aug_fem.h"
 #include "aug_update.h"
 
 /* Quality of a whole mesh (aug_elem_quality per element): totals, extremes and
@@ -39,8 +40,44 @@ void aug_dump_free(aug_dump *d);
 /* One record (TAIL included); payloads that do not match their layout fail. */
 int aug_dump_record(FILE *out, aug_dump *d, const aug_rec *rec, aug_err *e);
 
+/* Reaction resultants (lib/stats/reactab.c) from rEAC records: per step the
+   last rEAC of that step (its last frame) as a row of columns, column 0 the
+   total over every constrained DOF, then each set in the order it first
+   appears; per column the largest magnitude |R| over every rEAC and its step
+   and frame. */
+typedef struct aug_reacrow {
+    int32_t step, frame;
+    double time;
+    int64_t ndof;
+    int ncol;                 /* columns known when the row was written */
+    double *val;              /* ncol*dim; NAN for a set the record lacks */
+} aug_reacrow;
+typedef struct aug_reactab {
+    int dim;
+    long nrec;
+    int ncol, colcap;
+    char (*name)[AUG_NAME];   /* per column ("" for the total) */
+    double *max;
+    int32_t *max_step, *max_frame;
+    aug_reacrow *row;
+    size_t nrow, rowcap;
+    aug_reaction q;           /* read buffer */
+} aug_reactab;
+void aug_reactab_init(aug_reactab *t);
+void aug_reactab_free(aug_reactab *t);
+int aug_reactab_add(aug_reactab *t, const aug_rec *rec, aug_err *e);
+/* CSV columns (0 without rEAC): reaction_x, reaction_y[, reaction_z] for the
+   total, then SET_x, SET_y[, SET_z] per set; the value of column k at a step
+   (*found = 0: none). */
+int aug_reactab_ncsv(const aug_reactab *t);
+void aug_reactab_csv_name(const aug_reactab *t, int k, char *buf, size_t cap);
+double aug_reactab_csv_value(const aug_reactab *t, int32_t step, int k, int *found);
+/* The summary's lines: per column the last resultant and the largest |R|. */
+void aug_reactab_print(FILE *o, const aug_reactab *t);
+
 /* Per-step table: one row per (step, method) from sTAt and tIMe records with
-   the same step and tag; rows in stream order. */
+   the same step and tag; rows in stream order; the reaction resultants of
+   rEAC records by step (react). */
 typedef struct aug_steprow {
     int32_t step;
     char method[16];
@@ -50,15 +87,17 @@ typedef struct aug_steprow {
 typedef struct aug_steptab {
     aug_steprow *row;
     size_t n, cap;
+    aug_reactab react;
 } aug_steptab;
 void aug_steptab_init(aug_steptab *t);
 void aug_steptab_free(aug_steptab *t);
-/* Add a sTAt or tIMe record (other types are ignored). */
+/* Add a sTAt, tIMe or rEAC record (other types are ignored). */
 int aug_steptab_add(aug_steptab *t, const aug_rec *rec, aug_err *e);
 /* Value of key in row r: sTAt first, then tIMe; NAN when absent (*found = 0). */
 double aug_steprow_get(const aug_steprow *r, const char *key, int *found);
 /* CSV: step,method,time_ms,relres,m,k then every other key of any row, sorted
-   by name; an empty cell where a row lacks the key. */
+   by name, then the reaction columns of the row's step; an empty cell where a
+   row lacks the key. */
 int aug_steptab_csv(FILE *out, const aug_steptab *t, aug_err *e);
 
 /* Median of v[0..n-1] (sorts v in place); NAN when n = 0. */

@@ -94,6 +94,7 @@ extern const aug_codec aug_codec_dofm, aug_codec_kmat, aug_codec_fvec, aug_codec
 extern const aug_codec aug_codec_mdlt, aug_codec_updt, aug_codec_upkm, aug_codec_bdlt, aug_codec_path;
 extern const aug_codec aug_codec_dynp, aug_codec_fram;
 extern const aug_codec aug_codec_kv;   /* cOND sTAt tIMe qUAl */
+extern const aug_codec aug_codec_reac; /* rEAC */
 
 typedef struct aug_rectype {
     const char *type;

@@ -18,6 +18,7 @@ void aug_replay_free(aug_replay *r)
     free(r->map0);
     free(r->out_dof);
     free(r->mdlt_parent);
+    free(r->chg);
     memset(r, 0, sizeof *r);
 }
 
@@ -108,6 +109,23 @@ static int add_dofm(aug_replay *r, const aug_rec *rec, aug_err *e)
     return 0;
 }
 
+/* chg += the elements d re-wired (d->elem) and added (ne0 .. ne0 + nadd - 1) */
+static int note_changes(aug_replay *r, const aug_mdelta *d, int64_t ne0)
+{
+    int64_t need = r->nchg + d->nmod + d->nadd;
+    if (need > r->chgcap) {
+        int64_t cap = need > 2 * r->chgcap ? need : 2 * r->chgcap;
+        int32_t *c = aug_realloc(r->chg, (size_t)cap * sizeof *c);
+        if (!c) return -1;
+        r->chg = c;
+        r->chgcap = cap;
+    }
+    memcpy(r->chg + r->nchg, d->elem, (size_t)d->nmod * sizeof *d->elem);
+    r->nchg += d->nmod;
+    for (int64_t i = 0; i < d->nadd; i++) r->chg[r->nchg++] = (int32_t)(ne0 + i);
+    return 0;
+}
+
 static int add_mdlt(aug_replay *r, const aug_rec *rec, aug_err *e)
 {
     aug_mesh *m = &r->mesh;
@@ -120,9 +138,12 @@ static int add_mdlt(aug_replay *r, const aug_rec *rec, aug_err *e)
         r->mdlt_step = d.step, r->mdlt_flags = d.flags;
         r->mdlt_nnew = d.nnew, r->mdlt_nmod = d.nmod, r->mdlt_nadd = d.nadd;
         if (rec->step <= r->step_limit) {
+            int64_t ne0 = m->ne;
             rc = aug_mesh_apply(m, &d, e);
             if (rc) e->record = rec->index, memcpy(e->type, "MDLT", 5);
             else r->applied++;
+            if (!rc && r->track && note_changes(r, &d, ne0))
+                rc = aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
         }
         free(r->mdlt_parent);
         r->mdlt_parent = d.parent; /* kept: the nodes the new ones were copied from */

@@ -1,7 +1,8 @@
 /* factor's job on the intact scene: assemble K (and M) over the free DOFs, order
    and factor K = L D L' with CHOLMOD (dynamics: the integrator's A = cM M + cK K),
    solve K a = f, estimate cond(K), and write DOFM, (DYNP,) KMAT, FVEC, FACT,
-   cOND, the step-0 fELD (dynamics: fRAM frame 0, at rest), sTAt and tIMe. */
+   cOND, the step-0 fELD and rEAC (dynamics: fRAM frame 0, at rest), sTAt and
+   tIMe. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -86,6 +87,20 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
     return 0;
 }
 
+/* rEAC of step 0: the reactions of the field u on the whole intact mesh */
+static int write_reactions(aug_writer *w, const aug_mesh *m, const double *u, aug_err *e)
+{
+    int32_t *el;
+    int64_t nel = aug_react_elements(m, &el);
+    if (nel < 0) return aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "rEAC", "out of memory");
+    aug_reaction q;
+    memset(&q, 0, sizeof q);
+    int rc = aug_reaction_compute(&q, m, el, nel, u, NULL, e) || aug_write_reaction(w, 0, &q, e);
+    free(el);
+    aug_reaction_free(&q);
+    return rc ? e->code : 0;
+}
+
 int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
                        const aug_factor_opts *o, cholmod_common *cm, aug_err *e)
 {
@@ -144,6 +159,7 @@ int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
     } else {
         aug_expand_field(m, r->map, r->a, u);
         rc = aug_write_field(w, 0, 0, m->dim, m->nn, NULL, u, e);
+        if (!rc && !o->no_reactions) rc = write_reactions(w, m, u, e);
     }
     free(u);
     if (rc) return rc;

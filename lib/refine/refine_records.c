@@ -2,8 +2,8 @@
    read, the step refined (aug_refine_step, or aug_refine_bc_only for a
    constraint-only step), and the step written again in its order: the folded
    MDLT, the translated BDLT, the rebuilt UPDT, the other records as they were
-   (a fELD of the unrefined mesh is dropped; on a dynamic stream the rebuilt
-   UPDT carries its UPKM), then qUAl and tIMe. */
+   (a fELD or rEAC of the unrefined mesh is dropped; on a dynamic stream the
+   rebuilt UPDT carries its UPKM), then qUAl and tIMe. */
 #include <stdlib.h>
 #include <string.h>
 #include "aug_cut.h"
@@ -122,8 +122,8 @@ int aug_refine_records(aug_refiner *r, const aug_rec *recs, int n, int32_t step,
             rc = aug_write_update(w, &u, e);
         } else if (!memcmp(rec->type, "UPKM", 4) && g.iup >= 0 && (g.imd >= 0 || g.ibc >= 0))
             continue; /* the rebuilt UPDT writes its own (dynamic streams) */
-        else if (!memcmp(rec->type, "fELD", 4) && g.imd >= 0)
-            continue; /* a field of the unrefined mesh */
+        else if ((!memcmp(rec->type, "fELD", 4) || !memcmp(rec->type, "rEAC", 4)) && g.imd >= 0)
+            continue; /* a field (its reactions) of the unrefined mesh */
         else rc = aug_write_rec(w, rec, e);
     }
     if (!rc && have_q) {

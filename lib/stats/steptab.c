@@ -1,13 +1,19 @@
-/* Per-step table: sTAt and tIMe records matched by (step, method), and its CSV. */
+/* Per-step table: sTAt and tIMe records matched by (step, method), with the
+   reaction resultants of their step (rEAC), and its CSV. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "aug_stats.h"
 
-void aug_steptab_init(aug_steptab *t) { memset(t, 0, sizeof *t); }
+void aug_steptab_init(aug_steptab *t)
+{
+    memset(t, 0, sizeof *t);
+    aug_reactab_init(&t->react);
+}
 void aug_steptab_free(aug_steptab *t)
 {
     free(t->row);
+    aug_reactab_free(&t->react);
     aug_steptab_init(t);
 }
 
@@ -40,6 +46,7 @@ static aug_steprow *row_for(aug_steptab *t, int32_t step, const char *tag, int i
 int aug_steptab_add(aug_steptab *t, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
+    if (!memcmp(rec->type, "rEAC", 4)) return aug_reactab_add(&t->react, rec, e);
     int is_time = memcmp(rec->type, "tIMe", 4) == 0;
     if (!is_time && memcmp(rec->type, "sTAt", 4) != 0) return 0;
     aug_kv kv;
@@ -156,6 +163,13 @@ int aug_steptab_csv(FILE *out, const aug_steptab *t, aug_err *e)
         fputc(',', out);
         csv_str(out, k[j]);
     }
+    int nr = aug_reactab_ncsv(&t->react);
+    for (int j = 0; j < nr; j++) {
+        char name[AUG_NAME + 16];
+        aug_reactab_csv_name(&t->react, j, name, sizeof name);
+        fputc(',', out);
+        csv_str(out, name);
+    }
     fputc('\n', out);
     for (size_t i = 0; i < t->n; i++) {
         const aug_steprow *r = &t->row[i];
@@ -163,6 +177,12 @@ int aug_steptab_csv(FILE *out, const aug_steptab *t, aug_err *e)
         csv_str(out, r->method);
         for (int l = 0; l < NLEAD; l++) csv_val(out, r, lead[l]);
         for (size_t j = 0; j < nk; j++) csv_val(out, r, k[j]);
+        for (int j = 0; j < nr; j++) {
+            int f;
+            double v = aug_reactab_csv_value(&t->react, r->step, j, &f);
+            fputc(',', out);
+            if (f) fprintf(out, "%.17g", v);
+        }
         fputc('\n', out);
     }
     free(k);

@@ -342,6 +342,8 @@ int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e)
         rc = add_path(s, rec, e);
     } else if (is(rec, "sTAt") || is(rec, "tIMe")) {
         rc = aug_steptab_add(&s->tab, rec, e);
+    } else if (is(rec, "rEAC")) {
+        rc = rec->step <= s->limit ? aug_steptab_add(&s->tab, rec, e) : aug_check_payload(rec, e);
     } else if (is(rec, "qUAl")) {
         rc = aug_read_kv(rec, &s->qual, e);
         s->nqual++;
@@ -651,6 +653,7 @@ int aug_summary_print(FILE *o, aug_summary *s, const char *name, aug_err *e)
     }
     print_matrices(o, s);
     print_steps(o, s);
+    aug_reactab_print(o, &s->tab.react);
     if (print_methods(o, s)) goto nomem;
     if (s->fin.valid) print_quality(o, s, &s->fin, "final");
     if (ferror(o)) return aug_err_set(e, AUG_EIO, -1, "", "write failed");

@@ -51,6 +51,7 @@ static const aug_rectype table[] = {
     {"pATH", 16, AUG_MAX_BODY, 3, 0, 1, &aug_codec_path},
     {"fELD", 24, AUG_MAX_BODY, 3, 0, 1, &aug_codec_feld},
     {"fRAM", 32, AUG_MAX_BODY, 3, 0, 1, &aug_codec_fram},
+    {"rEAC", 48, AUG_MAX_BODY, 3, 0, 1, &aug_codec_reac},
     {"sTAt", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
     {"tIMe", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
     {"qUAl", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},

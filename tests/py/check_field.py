@@ -134,11 +134,7 @@ def field(p):
 
 def main():
     args = sys.argv[1:]
-    rel = 1e-10
-    if "--rel" in args:
-        i = args.index("--rel")
-        rel = float(args[i + 1])
-        del args[i:i + 2]
+    rel = cutsys.rel_option(args, 1e-10)
     if not args:
         raise SystemExit(__doc__)
     solved, bad = {}, 0

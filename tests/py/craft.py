@@ -25,6 +25,10 @@ usage: craft.py KIND IN [IN2] > OUT
   upkm-asym      the first UPKM's EK(0,1) changed, EK(1,0) not
   fram-nan       the first fRAM's first velocity = NaN
   kmat-a-drop    the KMAT of kind 3 (A) removed
+  reac-order     the last rEAC with its first two DOFs exchanged (not increasing)
+  reac-nan       the last rEAC's first reaction = NaN
+  reac-long      the last rEAC with 8 bytes more than its counts say
+  reac-name      the last rEAC with two sets, its second one named as its first
 """
 import math, struct, sys, zlib
 
@@ -196,6 +200,27 @@ def main():
         put(recs, i, p)
     elif kind == "kmat-a-drop":
         recs = [r for r in recs if not (r[0] == "KMAT" and struct.unpack_from("<i", r[3], 0)[0] == 3)]
+    elif kind.startswith("reac-"):
+        i = max(k for k, r in enumerate(recs) if r[0] == "rEAC")
+        p = bytearray(recs[i][3])
+        dim, _, _, n, nset = struct.unpack_from("<iidqq", p, 0)   # dim, frame, time, n, nset
+        if kind == "reac-order":
+            assert n >= 2
+            a, b = struct.unpack_from("<ii", p, 32)
+            struct.pack_into("<ii", p, 32, b, a)
+        elif kind == "reac-nan":
+            struct.pack_into("<d", p, 32 + 4 * n, math.nan)
+        elif kind == "reac-long":
+            p += struct.pack("<d", 0.0)
+        elif kind == "reac-name":
+            assert nset >= 1
+            sets = 32 + 12 * n + 8 * dim
+            one = p[sets:sets + 64 + 8 * dim]
+            p = p[:sets] + one + one + p[sets + (64 + 8 * dim) * nset:]
+            struct.pack_into("<q", p, 24, 2)
+        else:
+            raise SystemExit(__doc__)
+        put(recs, i, p)
     else:
         raise SystemExit(__doc__)
     sys.stdout.buffer.write(build(recs))

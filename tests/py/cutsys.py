@@ -13,6 +13,16 @@ class Bad(Exception):
     """a record that does not decode or does not fit the mesh"""
 
 
+def rel_option(args, default):
+    """the value of --rel in the command line args (removed from it), or default"""
+    if "--rel" not in args:
+        return default
+    i = args.index("--rel")
+    rel = float(args[i + 1])
+    del args[i:i + 2]
+    return rel
+
+
 def arr(fmt, p, pos, n):
     if n < 0 or pos + n * struct.calcsize(fmt) > len(p):
         raise Bad("payload too short")

@@ -52,11 +52,15 @@ static int write_all(aug_writer *w, const aug_mesh *m, const int32_t *map, int64
     aug_pathrec p = {1, 3, 1, seg};
     double *uf = malloc((size_t)m->nn * 3 * sizeof *uf);
     for (int64_t i = 0; i < m->nn * 3; i++) uf[i] = 1e-3 * (double)i;
-    int32_t nodes[2] = {0, 5};
+    int32_t nodes[2] = {0, 5}, rdof[3] = {0, 2, 7};
+    double rv[3] = {0.5, -1.25, 2}, res[3] = {0.5, 0, -1.25};
+    char rname[1][AUG_NAME] = {"pair"};
+    aug_reaction q = {3, 0, 0, 3, rdof, rv, {0.5, 2, -1.25}, 1, rname, res, 0, 0};
     int rc = aug_write_mdelta(w, 3, 4, &d, e) || aug_write_bdelta(w, &b, e) ||
              aug_write_update(w, &u, e) || aug_write_path(w, &p, e) ||
              aug_write_field(w, 1, 0, 3, m->nn, NULL, uf, e) ||
-             aug_write_field(w, 1, 0, 3, 2, nodes, uf, e) || aug_write_kv(w, "sTAt", 1, &kv, e) ||
+             aug_write_field(w, 1, 0, 3, 2, nodes, uf, e) || aug_write_reaction(w, 1, &q, e) ||
+             aug_write_kv(w, "sTAt", 1, &kv, e) ||
              aug_write_kv(w, "tIMe", 1, &kv, e) || aug_write_kv(w, "qUAl", 1, &kv, e);
     free(uf);
     return rc ? -1 : 0;
@@ -124,6 +128,11 @@ static int rewrite(aug_writer *w, aug_mesh *m, const aug_rec *rec, aug_err *e)
              aug_write_field(w, rec->step, kind, dim, n, nodes, u, e);
         free(nodes);
         free(u);
+    } else if (!strcmp(t, "rEAC")) {
+        aug_reaction q;
+        memset(&q, 0, sizeof q);
+        rc = aug_read_reaction(rec, &q, e) || aug_write_reaction(w, rec->step, &q, e);
+        aug_reaction_free(&q);
     } else {
         aug_kv kv;
         rc = aug_read_kv(rec, &kv, e) || aug_write_kv(w, t, rec->step, &kv, e);
