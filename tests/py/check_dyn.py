@@ -12,6 +12,9 @@ the integrator on the DOFs that are free at the later frame's step,
 to --rel relative (2-norm over those DOFs, against the norm of the right-hand
 side), and the velocity v1 = (u1 - u0)/h (Euler), 2 (u1 - u0)/h - v0 (Newmark)
 on every DOF; new nodes of a step start from the state of their parent.
+Every rEAC of a checked frame (formats/stream.md 7.10) must hold, at each
+constrained DOF, r = M a + D v1 + K u1 - f with a = (v1 - v0)/h, to --rel
+relative to the largest |r|.
 With --energy FILE: per frame 'frame time kinetic potential work' (1/2 v'Mv,
 1/2 u'Ku, f'u over the free DOFs). With --momentum: per frame the linear
 momentum sum_j m_j v_j (m_j the row sums of M) and sum_j m_j |v_j|.
@@ -119,7 +122,30 @@ def main():
         sys.exit(1)
     dim = cm.dim
     mats, prev, nf, worst, msg, parents = None, None, 0, 0.0, None, []
+    nr, last = 0, None  # last: (frame, u1, v1, a) of the latest checked frame
     for t, fl, s, p in recs:
+        if t == "rEAC" and last is not None:
+            rdim, rfr, rtime, n, nset = struct.unpack_from("<iidqq", p, 0)
+            dofs, pos = cutsys.arr("i", p, 32, n)
+            rv, pos = cutsys.arr("d", p, pos, n)
+            lf, u1_, v1_, acc = last
+            if rfr != lf:
+                continue
+            K, M = mats
+            ref = []
+            for dof in dofs:
+                Ma, Mv, Ku, Kv = mult(M, acc, dof), mult(M, v1_, dof), mult(K, u1_, dof), mult(K, v1_, dof)
+                ref.append(Ma + alpha * Mv + beta * Kv + Ku - cm.load.get(dof, 0.0))
+            if sorted(dofs) != sorted(cm.fix) or not ref:
+                msg = "frame %d: rEAC DOFs are not the constrained DOFs" % rfr
+                break
+            sc = max(map(abs, ref)) or 1.0
+            err = max(abs(a - b) for a, b in zip(rv, ref)) / sc
+            if not err <= rel:
+                msg = "frame %d: reaction differs from M a + D v + K u - f by %.3g relative" % (rfr, err)
+                break
+            nr += 1
+            continue
         if t == "MDLT":
             d = cutsys.mdlt(p, dim, cm.nv)
             cm.apply_mdlt(d)
@@ -174,6 +200,7 @@ def main():
                 msg = "frame %d (step %d): A du - rhs is %.3g relative (> %g)" % (fr, s, e, rel)
                 break
             worst = max(worst, e)
+            last = (fr, u1, v1, [(a - b) / h for a, b in zip(v1, v0)])
         parents = []
         if efile:
             free = [i for i in range(ndof) if i not in cm.fix]
@@ -190,7 +217,7 @@ def main():
     if msg:
         print("FAIL %s: %s" % (name, msg))
         sys.exit(1)
-    print("ok %s frames=%d max_rel=%.3g" % (name, nf, worst))
+    print("ok %s frames=%d reactions=%d max_rel=%.3g" % (name, nf, nr, worst))
 
 
 main()
