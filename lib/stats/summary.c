@@ -535,7 +535,77 @@ static void print_matrices(FILE *o, const aug_summary *s)
     }
 }
 
-/* per method, in order of first appearance */
+/* a frame row (dynamic streams): its sTAt or tIMe has the key frame */
+static int is_frame_row(const aug_steprow *r)
+{
+    int f;
+    aug_steprow_get(r, "frame", &f);
+    return f || strncmp(r->method, "dynamics", 16) == 0;
+}
+
+/* Dynamic streams (formats/stream.md 7.9): per method the frames, their
+   relres, the median time of a frame's solve, of a step's work (its rows
+   without frame), and frames per second = 1000 / (frame median + step median
+   * steps / frames); then the frames' time span and energy range. */
+static int print_frames(FILE *o, const aug_summary *s)
+{
+    const aug_steptab *t = &s->tab;
+    size_t nfr = 0;
+    for (size_t i = 0; i < t->n; i++) nfr += strncmp(t->row[i].method, "dynamics", 16) == 0 && t->row[i].has_stat;
+    if (!nfr) return 0;
+    double *rr = aug_malloc(t->n * sizeof *rr), *tf = aug_malloc(t->n * sizeof *tf), *ts = aug_malloc(t->n * sizeof *ts);
+    if (!rr || !tf || !ts) {
+        free(rr), free(tf), free(ts);
+        return -1;
+    }
+    fprintf(o, "frames (fRAM; sTAt, tIMe with key frame)\n");
+    fprintf(o, "  %-12s %7s %13s %13s %9s %14s %14s %10s\n", "method", "frames", "relres_median",
+            "relres_max", "failures", "frame_ms_med", "step_ms_med", "frames/s");
+    for (size_t i = 0; i < t->n; i++) {
+        const char *mth = t->row[i].method;
+        size_t j = 0;
+        if (!strncmp(mth, "dynamics", 16)) continue;
+        while (j < i && strncmp(t->row[j].method, mth, 16) != 0) j++;
+        if (j < i) continue;
+        size_t nf = 0, nr = 0, nt = 0, ns = 0, fail = 0;
+        double rmax = -INFINITY;
+        for (j = i; j < t->n; j++) {
+            const aug_steprow *r = &t->row[j];
+            int f, fr = is_frame_row(r);
+            double v;
+            if (strncmp(r->method, mth, 16) != 0) continue;
+            if (fr && r->has_stat) {
+                nf++;
+                if ((v = aug_steprow_get(r, "relres", &f), f)) rr[nr++] = v, rmax = fmax(rmax, v);
+                if ((v = aug_steprow_get(r, "converged", &f), f) && v == 0) fail++;
+            }
+            if (r->has_time && (v = aug_steprow_get(r, "time_ms", &f), f)) {
+                if (fr) tf[nt++] = v;
+                else if (r->step > 0) ts[ns++] = v;
+            }
+        }
+        if (!nf) continue;
+        double fm = aug_median(tf, nt), sm = ns ? aug_median(ts, ns) : 0;
+        double per = fm + sm * (double)ns / (double)nf;
+        fprintf(o, "  %-12s %7zu %13.4g %13.4g %9zu %14.4g %14.4g %10.4g\n", mth, nf, aug_median(rr, nr),
+                nr ? rmax : NAN, fail, fm, ns ? sm : NAN, 1000.0 / per);
+    }
+    double t0 = NAN, t1 = NAN, emin = INFINITY, emax = -INFINITY, e0 = NAN, e1 = NAN;
+    for (size_t i = 0; i < t->n; i++) {
+        const aug_steprow *r = &t->row[i];
+        int f, g;
+        if (strncmp(r->method, "dynamics", 16) || !r->has_stat) continue;
+        double tm = aug_steprow_get(r, "time", &f), en = aug_steprow_get(r, "energy", &g);
+        if (f) t1 = tm, t0 = isnan(t0) ? tm : t0;
+        if (g) e1 = en, e0 = isnan(e0) ? en : e0, emin = fmin(emin, en), emax = fmax(emax, en);
+    }
+    fprintf(o, "  time             %.6g .. %.6g (%zu frames)\n", t0, t1, nfr);
+    fprintf(o, "  energy           first %.6g, last %.6g, min %.6g, max %.6g\n", e0, e1, emin, emax);
+    free(rr), free(tf), free(ts);
+    return 0;
+}
+
+/* per method, in order of first appearance (rows of steps, not of frames) */
 static int print_methods(FILE *o, const aug_summary *s)
 {
     const aug_steptab *t = &s->tab;
@@ -552,12 +622,12 @@ static int print_methods(FILE *o, const aug_summary *s)
     for (size_t i = 0; i < t->n; i++) {
         size_t j = 0;
         while (j < i && strncmp(t->row[j].method, t->row[i].method, 16) != 0) j++;
-        if (j < i) continue; /* already printed */
+        if (j < i || !strncmp(t->row[i].method, "dynamics", 16)) continue; /* printed, or frames */
         size_t nst = 0, nr = 0, nt = 0, fail = 0;
         double rmax = -INFINITY;
         for (j = i; j < t->n; j++) {
             const aug_steprow *r = &t->row[j];
-            if (strncmp(r->method, t->row[i].method, 16) != 0) continue;
+            if (strncmp(r->method, t->row[i].method, 16) != 0 || is_frame_row(r)) continue;
             int f;
             double v;
             if (r->has_stat) {
@@ -654,7 +724,7 @@ int aug_summary_print(FILE *o, aug_summary *s, const char *name, aug_err *e)
     print_matrices(o, s);
     print_steps(o, s);
     aug_reactab_print(o, &s->tab.react);
-    if (print_methods(o, s)) goto nomem;
+    if (print_methods(o, s) || print_frames(o, s)) goto nomem;
     if (s->fin.valid) print_quality(o, s, &s->fin, "final");
     if (ferror(o)) return aug_err_set(e, AUG_EIO, -1, "", "write failed");
     return 0;
