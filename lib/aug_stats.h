@@ -130,6 +130,9 @@ int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned 
    displacement_mask (mask, or all 1 when mask is NULL). */
 int aug_vtk_write(FILE *out, const aug_mesh *m, const double *u, const unsigned char *mask,
                   aug_err *e);
+/* As aug_vtk_write with a velocity array v too (NULL: none): a time frame. */
+int aug_vtk_write_uv(FILE *out, const aug_mesh *m, const double *u, const double *v,
+                     const unsigned char *mask, aug_err *e);
 /* path := the .vtu of step `step` of a summary read up to it (step limit >=
    step): its mesh and the displacement field of that very step, if any. File
    errors name the file (AUG_EIO, record -1); a file that failed is removed. */

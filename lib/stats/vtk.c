@@ -28,6 +28,12 @@ static void close_array(FILE *o) { fprintf(o, "\n        </DataArray>\n"); }
 int aug_vtk_write(FILE *o, const aug_mesh *m, const double *u, const unsigned char *mask,
                   aug_err *e)
 {
+    return aug_vtk_write_uv(o, m, u, NULL, mask, e);
+}
+
+int aug_vtk_write_uv(FILE *o, const aug_mesh *m, const double *u, const double *v,
+                     const unsigned char *mask, aug_err *e)
+{
     aug_err_clear(e);
     if (m->nv != 3 && m->nv != 4) return aug_err_set(e, AUG_EUSAGE, -1, "", "mesh has no elements");
     int dim = m->dim, nv = m->nv;
@@ -44,6 +50,14 @@ int aug_vtk_write(FILE *o, const aug_mesh *m, const double *u, const unsigned ch
             for (int d = 0; d < 3; d++) fprintf(o, "%s%.17g", d ? " " : "", d < dim ? u[i * dim + d] : 0.0);
         }
         close_array(o);
+        if (v) {
+            open_array(o, "Float64", "velocity", 3);
+            for (int64_t i = 0; i < m->nn; i++) {
+                if (i) fputc('\n', o);
+                for (int d = 0; d < 3; d++) fprintf(o, "%s%.17g", d ? " " : "", d < dim ? v[i * dim + d] : 0.0);
+            }
+            close_array(o);
+        }
         open_array(o, "UInt8", "displacement_mask", 1);
         for (int64_t i = 0; i < m->nn; i++)
             fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", mask ? (int)mask[i] : 1);
