@@ -12,36 +12,25 @@
       {x: |x_t - c_t| <= r (both transverse axes, c the end face's centre),
       distance from the end <= r}; r grows with COUNT. Counts that give the
       same box are printed once; a COUNT above half the nodes is left out."""
+import os
 import struct
 import sys
-import zlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from aug_kv import payloads  # noqa: E402
 
 
 def read(path):
     """(dim, coordinates, fixed node indices) of NODE and FIXD"""
     x, fixed, dim = [], set(), 3
-    with open(path, "rb") as f:
-        if f.read(8) != b"\x89AUG\r\n\x1a\n":
-            sys.exit("deform_boxes.py: %s: not an augcut stream" % path)
-        while True:
-            h = f.read(12)
-            if len(h) < 12:
-                break
-            (blen,) = struct.unpack_from("<Q", h, 0)
-            typ = h[8:12].decode("ascii", "replace")
-            if typ not in ("NODE", "FIXD"):
-                f.seek(blen + 4, 1)
-                continue
-            body = f.read(blen)
-            f.seek(4, 1)
-            p = zlib.decompress(body[16:]) if struct.unpack_from("<I", body, 0)[0] & 1 else body[16:]
-            if typ == "NODE":
-                dim, _, nn = struct.unpack_from("<iiq", p, 0)
-                v = struct.unpack_from("<%dd" % (nn * dim), p, 16)
-                x = [v[i * dim:(i + 1) * dim] for i in range(nn)]
-            else:
-                (n,) = struct.unpack_from("<q", p, 0)
-                fixed = {d // dim for d in struct.unpack_from("<%di" % n, p, 8)}
+    for typ, step, p in payloads(path, ("NODE", "FIXD")):
+        if typ == "NODE":
+            dim, _, nn = struct.unpack_from("<iiq", p, 0)
+            v = struct.unpack_from("<%dd" % (nn * dim), p, 16)
+            x = [v[i * dim:(i + 1) * dim] for i in range(nn)]
+        else:
+            (n,) = struct.unpack_from("<q", p, 0)
+            fixed = {d // dim for d in struct.unpack_from("<%di" % n, p, 8)}
     return dim, x, fixed
 
 

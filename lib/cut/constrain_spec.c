@@ -22,14 +22,29 @@ static int target(const char *s, aug_constraint *c)
     return 0;
 }
 
+/* c = nothing parsed yet, buf = a copy of s: 0, or -1 when s does not fit */
+static int start(const char *s, char buf[512], aug_constraint *c)
+{
+    memset(c, 0, sizeof *c);
+    if (strlen(s) >= 512) return -1;
+    strcpy(buf, s);
+    return 0;
+}
+
+/* c's values = the 2 or 3 numbers after sep, which ends the text before: 0 or -1 */
+static int values(char *sep, aug_constraint *c)
+{
+    *sep = 0;
+    c->nv = aug_parse_reals(sep + 1, c->v, 3);
+    return c->nv < 2 ? -1 : 0;
+}
+
 /* "SET|box:x0,y0[,z0],x1,y1[,z1]" then "=u,v[,w]" then "@S", the later parts optional */
 int aug_constraint_parse(const char *s, aug_constraint *c)
 {
     char buf[512];
-    memset(c, 0, sizeof *c);
+    if (start(s, buf, c)) return -1;
     c->step = 1;
-    if (strlen(s) >= sizeof buf) return -1;
-    strcpy(buf, s);
     char *at = strrchr(buf, '@');
     if (at) {
         char *end;
@@ -39,11 +54,7 @@ int aug_constraint_parse(const char *s, aug_constraint *c)
         if (end == at + 1 || *end || errno || c->step < 1) return -1;
     }
     char *eq = strchr(buf, '=');
-    if (eq) {
-        *eq = 0;
-        c->nv = aug_parse_reals(eq + 1, c->v, 3);
-        if (c->nv < 2) return -1;
-    }
+    if (eq && values(eq, c)) return -1;
     return target(buf, c);
 }
 
@@ -51,15 +62,10 @@ int aug_constraint_parse(const char *s, aug_constraint *c)
 int aug_drag_parse(const char *s, aug_constraint *c)
 {
     char buf[512];
-    memset(c, 0, sizeof *c);
+    if (start(s, buf, c)) return -1;
     c->drag = 1;
-    if (strlen(s) >= sizeof buf) return -1;
-    strcpy(buf, s);
     char *colon = strrchr(buf, ':');
-    if (!colon) return -1;
-    *colon = 0;
-    c->nv = aug_parse_reals(colon + 1, c->v, 3);
-    if (c->nv < 2) return -1;
+    if (!colon || values(colon, c)) return -1;
     return target(buf, c);
 }
 
