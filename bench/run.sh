@@ -11,4 +11,5 @@ run solve.sh
 run solve_figs.sh
 run refine.sh
 run memory.sh
+run deform.sh
 exit $status

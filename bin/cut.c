@@ -1,5 +1,6 @@
 /* cut: a stream (mesh, possibly factor and earlier steps) -> + per cut step
-   MDLT, BDLT, UPDT, pATH (planar cut by node duplication, or a 2-D path). */
+   MDLT, BDLT, UPDT, pATH (planar cut by node duplication, a 2-D path, or no
+   cut: deformation-only steps of --constrain and --drag). */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -9,10 +10,11 @@
 #include "cli/aug_opt.h"
 
 static const char *synopsis =
-    "cut [FILE] (--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--polygon PTS] [--per-step K] [--seed S]\n"
-    "           | --path PFILE [--mode split|snap] [--snap-tol T])\n"
+    "cut [FILE] [--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--polygon PTS] [--per-step K] [--seed S]\n"
+    "           | --path PFILE [--mode split|snap] [--snap-tol T]]\n"
     "           --steps N [--pull F] [--detached error|pin|drop|keep]\n"
-    "           [--constrain SET|box:LO,HI[=u,v[,w]][@S]]... [--stats] [--deflate] [-h]";
+    "           [--constrain SET|box:LO,HI[=u,v[,w]][@S]]... [--drag SET|box:LO,HI:dx,dy[,dz]]...\n"
+    "           [--stats] [--deflate] [-h]";
 
 static const char *help =
     "  FILE                 input stream (default: stdin)\n"
@@ -32,6 +34,10 @@ static const char *help =
     "                       keep (write the singular step, flagged, for solvers)\n"
     "  --constrain SPEC     fix the nodes of a set or box:x0,y0,z0,x1,y1,z1 (2-D: 4\n"
     "                       numbers) to 0 or =u,v[,w], at step @S (default 1)\n"
+    "  --drag SPEC:dx,dy,dz every DOF of the nodes of a set or box (as --constrain) to\n"
+    "                       u = (t/N) d at step t of N (2-D: dx,dy)\n"
+    "                       --constrain/--drag without --plane or --path: deformation-only\n"
+    "                       steps, which change only constraints\n"
     "  --seed S             random generator seed of --plane random (default 1)\n"
     "  --stats              write sTAt and tIMe (tag cut) for every step\n"
     "  --deflate            zlib-deflate payloads of 64 KiB and more\n"
@@ -74,15 +80,15 @@ static int polygon(aug_tool *t, const char *opt, const char *val, void *dst)
     return 0;
 }
 
-/* --constrain SPEC, repeatable */
+/* --constrain SPEC and --drag SPEC:d, repeatable, in the order given */
 static int constrain(aug_tool *t, const char *opt, const char *val, void *dst)
 {
     options *o = dst;
     aug_constraint *q = realloc(o->con, (size_t)(o->ncon + 1) * sizeof *q);
-    (void)opt;
     if (!q) aug_tool_die(t, "out of memory");
     o->con = q;
-    if (aug_constraint_parse(val, &q[o->ncon])) return -1;
+    if (!strcmp(opt, "--drag") ? aug_drag_parse(val, &q[o->ncon]) : aug_constraint_parse(val, &q[o->ncon]))
+        return -1;
     o->ncon++;
     return 0;
 }
@@ -111,13 +117,17 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_CHOICE("--mode", &o->mode, modes, "split or snap")},
         {AUG_OPT_CHOICE("--detached", &o->policy, policies, "error, pin, drop or keep")},
         {AUG_OPT_CALL("--constrain", constrain, o, "SET or box:LO,HI, optionally =u,v[,w] and @STEP")},
+        {AUG_OPT_CALL("--drag", constrain, o, "SET:dx,dy,dz or box:LO,HI:dx,dy,dz (finite numbers)")},
         {AUG_OPT_STRING("--path", &o->pathfile, "a file"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_FLAG("--stats", &o->stats)},
         {AUG_OPT_FLAG("--deflate", &o->deflate)},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (!nsteps) aug_tool_usage(t, "--steps N is required");
-    if (o->plane == (o->pathfile != NULL)) aug_tool_usage(t, "give exactly one of --plane and --path");
+    if (o->plane && o->pathfile) aug_tool_usage(t, "give exactly one of --plane and --path");
+    else if (!o->plane && !o->pathfile && !o->ncon)
+        aug_tool_usage(t, "give exactly one of --plane and --path (or --constrain/--drag alone: "
+                       "deformation-only steps)");
     for (int i = 0; i < o->ncon; i++)
         if (o->steps >= 1 && o->con[i].step > o->steps)
             aug_tool_usage(t, "--constrain at step %ld after the last step %ld", o->con[i].step, o->steps);
@@ -176,7 +186,7 @@ int main(int argc, char **argv)
         if (o.npoly) aug_tool_check(&t, aug_plane_restrict(&pc, m, o.poly, o.npoly, &e), &e);
         if (per == 0) per = (pc.ncut + 63) / 64;
         c.pull_dir = pc.n; /* pull the cut faces apart along the plane's normal */
-    } else {
+    } else if (o.pathfile) {
         aug_path_cut_init(&pp, &o.path, o.mode, o.snap_tol);
     }
     int64_t nseg = 0; /* segments of the path inside the mesh, over every step */
@@ -191,13 +201,13 @@ int main(int argc, char **argv)
                              "(fewer --steps or a larger --per-step)", t.inname, (int)step,
                              (long long)pc.ncut);
             aug_tool_check(&t, aug_plane_step(&pc, &c.ed, per, &st.seg, &st.nseg, &e), &e);
-        } else {
+        } else if (o.pathfile) {
             double s_to = o.path.total * (double)k / (double)o.steps;
             aug_tool_check(&t, aug_path_step(&pp, &c.ed, s_to, &st.seg, &st.nseg, &e), &e);
         }
         nseg += st.nseg;
         aug_tool_check(&t, aug_cutter_apply(&c, &st, &e), &e);
-        int rc = aug_constrain_step(o.con, o.ncon, m, k, &st.bc, &e);
+        int rc = aug_constrain_step(o.con, o.ncon, m, k, o.steps, &st.bc, &e);
         if (rc == AUG_EUSAGE) aug_tool_die(&t, "%s", e.msg); /* the option does not fit the mesh */
         aug_tool_check(&t, rc, &e);
         aug_tool_check(&t, aug_cutter_update(&c, &st, &e), &e);

@@ -8,8 +8,8 @@
 static const char *synopsis =
     "meshload FILE.msh [--fix GROUP|box:x0,y0,z0,x1,y1,z1|plane:nx,ny,nz,d[,tol]]...\n"
     "       [--material GROUP:E=..,nu=..,rho=..,t=..]... [--default-material E=..,nu=..,rho=..,t=..]\n"
-    "       [--load GROUP:fx,fy,fz | --load point:x,y,z:fx,fy,fz]... [--output all|surface|GROUP]\n"
-    "       [--reorient] [--deflate] [-h]";
+    "       [--load GROUP:fx,fy,fz | --load point:x,y,z:fx,fy,fz]... [--gravity gx,gy,gz]\n"
+    "       [--output all|surface|GROUP] [--reorient] [--deflate] [-h]";
 
 static const char *help =
     "  --fix GROUP           fix every component (u = 0) of the nodes of a physical group or set\n"
@@ -21,6 +21,8 @@ static const char *help =
     "  --default-material E=..,nu=..,rho=..,t=..  properties of every material (E=1 nu=0.3 rho=1 t=1)\n"
     "  --load GROUP:fx,fy,fz total force on a set, split equally among its nodes\n"
     "  --load point:x,y,z:fx,fy,fz   force on the node nearest to (x,y,z)\n"
+    "  --gravity gx,gy,gz    body force rho g on every element (its consistent nodal load,\n"
+    "                        added to the --load forces); 2-D: gx,gy\n"
     "  --output all|surface|GROUP    the nodes whose displacement is wanted (default all)\n"
     "  --reorient            flip inverted elements instead of refusing them\n"
     "  --deflate             zlib-deflate large payloads\n"
@@ -38,7 +40,7 @@ static void report(void *t, const char *msg)
     aug_tool_usage(t, "%s", msg);
 }
 
-/* --fix, --material, --default-material, --load: into the scene spec */
+/* --fix, --material, --default-material, --load, --gravity: into the scene spec */
 static int scene_option(aug_tool *t, const char *opt, const char *val, void *dst)
 {
     options *o = dst;
@@ -58,6 +60,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_CALL("--material", scene_option, o, "a value")},
         {AUG_OPT_CALL("--default-material", scene_option, o, "a value"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_CALL("--load", scene_option, o, "a value")},
+        {AUG_OPT_CALL("--gravity", scene_option, o, "a value"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_STRING("--output", &o->spec.output, "a value"), .bad = "empty set name",
          .flags = AUG_OPT_ONCE | AUG_OPT_NONEMPTY},
         {AUG_OPT_FLAG("--reorient", &o->reorient)},

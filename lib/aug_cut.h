@@ -365,7 +365,8 @@ int aug_path_step(aug_path_cut *pc, aug_edit *ed, double s_to, double **seg, int
 
 /* ---- Boundary conditions a cut adds ----
    Constrain (value v[dim]) every DOF of the nodes in a named set or a box
-   (lo, hi: dim values each) of the current mesh. */
+   (lo, hi: dim values each) of the current mesh: b += each, also those m
+   has with that value already. */
 int aug_cut_constrain_set(const aug_mesh *m, const char *set, const double *v, aug_bdelta *b,
                           aug_err *e);
 int aug_cut_constrain_box(const aug_mesh *m, const double *lo, const double *hi,
@@ -373,22 +374,32 @@ int aug_cut_constrain_box(const aug_mesh *m, const double *lo, const double *hi,
 /* cut's --constrain SET|box:LO,HI[=u,v[,w]][@S] (lib/cut/constrain_spec.c):
    u = v (0 when no values are given) on the nodes of a set or of the box
    lo <= x <= hi (LO, HI: 2 numbers each in 2-D, 3 in 3-D) at the run's cut
-   step S (default 1). */
+   step S (default 1). cut's --drag SET|box:LO,HI:dx,dy[,dz]: at every step
+   k of N, u = (k / N) d on every DOF of the set's or box's nodes (a grasped
+   region pulled along d; the papers' deformation experiments, paper 000
+   figs. 5-6, AMPS figs. 4-5). */
 typedef struct aug_constraint {
     char set[AUG_NAME];          /* the set, "" for a box */
     double lo[3], hi[3];
     int nbox;                    /* numbers the box was given: 4 or 6 */
-    double v[3];
+    double v[3];                 /* the values; --drag: d */
     int nv;                      /* values given: 0 (all zero), 2 or 3 */
-    long step;                   /* >= 1 */
+    long step;                   /* --constrain: >= 1 */
+    int drag;                    /* 1: a --drag, at every step */
 } aug_constraint;
-/* c = the spec s: 0, or -1 when s is not one (c is then undefined). */
+/* c = the --constrain spec s: 0, or -1 when s is not one (c is then undefined). */
 int aug_constraint_parse(const char *s, aug_constraint *c);
-/* b += the constraints c[i] of step k (c[i].step == k) on m, in order
-   (aug_cut_constrain_set, _box). AUG_EUSAGE when one does not fit m's
-   dimension (its values or its box), e.msg "--constrain: ..." naming both;
-   otherwise their errors. */
-int aug_constrain_step(const aug_constraint *c, int n, const aug_mesh *m, long k,
+/* c = the --drag spec s (the target is what precedes the last ':'; d has 2
+   or 3 finite numbers): 0, or -1 when s is not one. */
+int aug_drag_parse(const char *s, aug_constraint *c);
+/* b += the constraints c[i] of step k of nsteps on m, in order
+   (aug_cut_constrain_set, _box): each --constrain of step k (c[i].step == k)
+   and every --drag, with u = ((double)k / nsteps) d; of several on one DOF
+   the last one wins, and one that m has already (same value) is left out. AUG_EUSAGE when one does
+   not fit m's dimension (its values or its box), e.msg "--constrain: ..." or
+   "--drag: ..." naming both; AUG_EDATA, e.msg naming the option, when its set
+   is not in m or its box holds no node; otherwise their errors. */
+int aug_constrain_step(const aug_constraint *c, int n, const aug_mesh *m, long k, long nsteps,
                        aug_bdelta *b, aug_err *e);
 /* Pull forces (AMPS sec. 4.3.2): every copy made by d (a new node at its parent's
    place) gets F along the direction from its parent's element star to its own

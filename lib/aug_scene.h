@@ -73,6 +73,12 @@ int aug_mesh_fix_marked(aug_mesh *m, const unsigned char *mark, aug_err *e);
    equally among the nodes). */
 void aug_load_spread(const aug_mesh *m, const int32_t *nodes, int64_t n, const double F[3],
                      double *f);
+/* f[i*dim + c] += rho g[c] |e| t / nv for each node i of each element e, rho
+   and t (2-D thickness; 1 in 3-D) of its material, |e| its volume (tet4) or
+   area (tri3): the consistent load of the constant body force rho g on linear
+   elements (integral of rho g N_i over e = rho g |e| / nv, the shape functions
+   N_i integrating to |e| / nv). */
+void aug_load_gravity(const aug_mesh *m, const double g[3], double *f);
 /* LOAD := the nonzero entries of the dense nodal force vector f[nn*dim]. */
 int aug_mesh_set_load(aug_mesh *m, const double *f, aug_err *e);
 /* oUTs := kind (AUG_OUT_*), name, nodes (copied; none for AUG_OUT_ALL). */
@@ -80,8 +86,8 @@ int aug_mesh_set_output(aug_mesh *m, int kind, const char *name, const int32_t *
                         int64_t n, aug_err *e);
 
 /* ---- Scene options (lib/mesh/scene_spec.c, scene_apply.c) ----
-   The values of meshload's --fix, --material, --default-material, --load and
-   --output, parsed, then applied to an imported mesh. Each problem found is
+   The values of meshload's --fix, --material, --default-material, --load,
+   --gravity and --output, parsed, then applied to an imported mesh. Each problem found is
    one message to a sink, in the order found, and the search goes on, so that
    a caller can report them all (GMT's rule); the library never prints. */
 typedef struct aug_sink {
@@ -126,15 +132,18 @@ typedef struct aug_scene_spec {
     aug_mat_spec *mat;
     aug_props def;             /* --default-material */
     const char *defarg;
+    int gravity;               /* --gravity given (and well formed) */
+    double g[3];               /* its acceleration, gz = 0 when given two numbers */
+    const char *garg;
     const char *output;        /* all (also NULL), surface or a set name */
 } aug_scene_spec;
 /* The texts given to a spec are the caller's (argv's): kept, not copied. */
 void aug_scene_spec_init(aug_scene_spec *s);
 void aug_scene_spec_free(aug_scene_spec *s);
 /* s += the value text of option opt: "--fix", "--material",
-   "--default-material" or "--load". A value refused for its own text (bad
-   syntax, a number out of range, E > 0, -1 < nu < 0.5, rho >= 0, t > 0, a key
-   given twice) is left out, each of its problems reported to k as "OPT TEXT:
+   "--default-material", "--load" or "--gravity" (gx,gy[,gz], finite). A value
+   refused for its own text (bad syntax, a number out of range, E > 0,
+   -1 < nu < 0.5, rho >= 0, t > 0, a key given twice) is left out, each of its problems reported to k as "OPT TEXT:
    what" (--default-material keeps its well-formed keys). Returns 0, also for
    a refused value; AUG_ENOMEM; AUG_EUSAGE for another opt. */
 int aug_scene_spec_add(aug_scene_spec *s, const char *opt, const char *text, aug_sink *k,
@@ -149,7 +158,10 @@ int aug_scene_spec_add(aug_scene_spec *s, const char *opt, const char *text, aug
    LOAD := the sum of the --load forces: a set's total F split equally among
    its nodes (aug_load_spread), a point's F on the node nearest it; an
    unknown or empty set is a problem, and so is fz != 0 on a 2-D mesh (which
-   ignores fz).
+   ignores fz). Then --gravity g adds the body force rho g of each element's
+   material as its consistent nodal load (aug_load_gravity); with g != 0 a
+   material of rho = 0 that some element uses is a problem naming it, and so
+   is gz != 0 on a 2-D mesh.
    oUTs := output: all; surface (aug_mesh_boundary_nodes); or a set (unknown
    or empty: a problem, and oUTs left out).
    A problem stops nothing: an unknown set selects no node, t= is unused in

@@ -6,15 +6,13 @@
 #include <string.h>
 #include "aug_cut.h"
 
-/* BDLT += u_c = v_c (0 when v is NULL) for each component of node whose
-   constraint is new or changes value */
+/* BDLT += u_c = v_c (0 when v is NULL) for each component of node (also
+   where m has that constraint already: aug_constrain_step drops those once
+   the step's constraints are composed) */
 static int fix_node(const aug_mesh *m, int32_t node, const double *v, aug_bdelta *b)
 {
-    for (int c = 0; c < m->dim; c++) {
-        double old, val = v ? v[c] : 0.0;
-        if (aug_mesh_fixed(m, node * m->dim + c, &old) && old == val) continue;
-        if (aug_bdelta_fix(b, node * m->dim + c, val)) return -1;
-    }
+    for (int c = 0; c < m->dim; c++)
+        if (aug_bdelta_fix(b, node * m->dim + c, v ? v[c] : 0.0)) return -1;
     return 0;
 }
 

@@ -215,8 +215,6 @@ int aug_replay_out_dofs(aug_replay *r, const int32_t **dofs, int64_t *n, aug_err
     return 0;
 }
 
-/* u(node, c) = x[index(node, c)], or the prescribed value of an original
-   constrained DOF; over every node, or the output set's nodes (indexed) */
 /* the state of d over every node, or the output set's nodes (indexed) */
 int aug_replay_write_frame(aug_writer *w, const aug_replay *r, int32_t step, int32_t frame,
                            double time, const double *u, const double *v, aug_err *e)
@@ -242,6 +240,10 @@ int aug_replay_write_frame(aug_writer *w, const aug_replay *r, int32_t step, int
     return rc;
 }
 
+/* u(node, c) = the prescribed value of a constrained DOF (FIXD, inherited or
+   added by BDLT: also an identity row of K_t, whose x holds it only to
+   rounding), else x[index(node, c)]; over every node, or the output set's
+   nodes (indexed) */
 int aug_replay_write_field(aug_writer *w, const aug_replay *r, int32_t step, const double *x,
                            aug_err *e)
 {
@@ -255,12 +257,8 @@ int aug_replay_write_field(aug_writer *w, const aug_replay *r, int32_t step, con
         int64_t node = all ? i : m->out_nodes[i];
         for (int c = 0; c < dim; c++) {
             int64_t id = aug_replay_index(r, node, c);
-            double v = 0;
-            if (id < 0) {
-                int64_t k = aug_find_i32(m->fix_dof, m->nfix, (int32_t)(node * dim + c));
-                if (k >= 0) v = m->fix_val[k];
-            }
-            u[i * dim + c] = id >= 0 ? x[id] : v;
+            int64_t k = aug_find_i32(m->fix_dof, m->nfix, (int32_t)(node * dim + c));
+            u[i * dim + c] = k >= 0 ? m->fix_val[k] : id >= 0 ? x[id] : 0.0;
         }
     }
     static const int32_t none[1] = {0};

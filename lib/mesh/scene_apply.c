@@ -1,4 +1,4 @@
-/* Scene options applied to an imported mesh: materials, FIXD, LOAD, oUTs. */
+/* Scene options applied to an imported mesh: materials, FIXD, LOAD (forces, gravity), oUTs. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -88,6 +88,25 @@ static void loads(const aug_scene_spec *s, const aug_mesh *m, aug_sink *k, doubl
     }
 }
 
+/* f[nn*dim] += the body force of --gravity (aug_load_gravity); a used material
+   without density is a problem when g != 0 */
+static void gravity(const aug_scene_spec *s, const aug_mesh *m, aug_sink *k, double *f)
+{
+    if (!s->gravity) return;
+    if (m->dim == 2 && s->g[2] != 0)
+        aug_sink_report(k, "--gravity %s: a 2-D mesh takes no z acceleration", s->garg);
+    if (s->g[0] == 0 && s->g[1] == 0 && s->g[2] == 0) return;
+    for (int i = 0; i < m->nmat; i++) {
+        int used = 0;
+        for (int64_t e = 0; e < m->ne && !used; e++) used = m->mat[e] == i;
+        if (used && !(m->mats[i].rho > 0))
+            aug_sink_report(k, "--gravity %s: material '%s' has density rho = %g (set it with "
+                            "--material %s:rho=.. or --default-material rho=..)", s->garg,
+                            m->mats[i].name, m->mats[i].rho, m->mats[i].name);
+    }
+    aug_load_gravity(m, s->g, f);
+}
+
 /* oUTs := the output set (mark: workspace of nn bytes) */
 static int output(const aug_scene_spec *s, aug_mesh *m, aug_sink *k, unsigned char *mark, aug_err *e)
 {
@@ -124,6 +143,7 @@ int aug_scene_spec_apply(const aug_scene_spec *s, aug_mesh *m, aug_sink *k, aug_
         materials(s, m, k);
         fixed(s, m, k, mark);
         loads(s, m, k, f);
+        gravity(s, m, k, f);
         rc = aug_mesh_fix_marked(m, mark, e);
         if (!rc) rc = aug_mesh_set_load(m, f, e);
         if (!rc) rc = output(s, m, k, mark, e);

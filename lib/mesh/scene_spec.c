@@ -1,4 +1,4 @@
-/* Scene options as text: meshload's --fix, --material, --default-material and --load parsed. */
+/* Scene options as text: meshload's --fix, --material, --default-material, --load and --gravity parsed. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -187,6 +187,12 @@ int aug_scene_spec_add(aug_scene_spec *s, const char *opt, const char *text, aug
     if (!strcmp(opt, "--default-material")) {
         s->defarg = text;
         parse_props(k, opt, text, text, &s->def);
+        return 0;
+    }
+    if (!strcmp(opt, "--gravity")) {
+        s->garg = text;
+        if (vec3(text, s->g)) aug_sink_report(k, "--gravity %s: want gx,gy,gz (finite numbers)", text);
+        else s->gravity = 1;
         return 0;
     }
     if (strcmp(opt, "--fix") && strcmp(opt, "--load") && strcmp(opt, "--material"))

@@ -1,4 +1,4 @@
-/* Unit tests of cut's --constrain specs (lib/cut/constrain_spec.c). */
+/* Unit tests of cut's --constrain and --drag specs (lib/cut/constrain_spec.c). */
 #include <math.h>
 #include <string.h>
 #include "aug_cut.h"
@@ -56,7 +56,7 @@ static void t_step(void)
     aug_err e;
     aug_bdelta b;
     aug_bdelta_init(&b);
-    T_CHECK(aug_constrain_step(c, 3, &m, 1, &b, &e) == 0, "step 1: %s", e.msg);
+    T_CHECK(aug_constrain_step(c, 3, &m, 1, 3, &b, &e) == 0, "step 1: %s", e.msg);
     T_CHECK(b.nfix == 6, "step 1: %lld constraints", (long long)b.nfix);
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 2; k++) {
@@ -66,7 +66,7 @@ static void t_step(void)
         }
     aug_bdelta_free(&b);
     aug_bdelta_init(&b);
-    T_CHECK(aug_constrain_step(c, 3, &m, 2, &b, &e) == 0, "step 2: %s", e.msg);
+    T_CHECK(aug_constrain_step(c, 3, &m, 2, 3, &b, &e) == 0, "step 2: %s", e.msg);
     aug_bdelta_finish(&b);
     /* the box: y = 0 (nodes 0, 1, 2); left: nodes 0, 3, 6; all to 0 */
     static const int32_t want[] = {0, 1, 2, 3, 4, 5, 6, 7, 12, 13};
@@ -75,23 +75,85 @@ static void t_step(void)
         T_CHECK(b.fix_dof[i] == want[i] && b.fix_val[i] == 0, "step 2: dof %d", b.fix_dof[i]);
     aug_bdelta_free(&b);
     aug_bdelta_init(&b);
-    T_CHECK(aug_constrain_step(c, 3, &m, 3, &b, &e) == 0 && b.nfix == 0, "step 3: none");
-
-    /* specs that do not fit the mesh */
-    aug_constraint_parse("left=1,2,3", &c[0]);
-    T_CHECK(aug_constrain_step(c, 1, &m, 1, &b, &e) == AUG_EUSAGE &&
-                !strcmp(e.msg, "--constrain: 3 values for a 2-D mesh"),
-            "values: %s", e.msg);
-    aug_constraint_parse("box:0,0,0,1,1,1", &c[0]);
-    T_CHECK(aug_constrain_step(c, 1, &m, 1, &b, &e) == AUG_EUSAGE &&
-                !strcmp(e.msg, "--constrain: a box of 6 numbers for a 2-D mesh"),
-            "box: %s", e.msg);
-    aug_constraint_parse("nosuch", &c[0]);
-    T_CHECK(aug_constrain_step(c, 1, &m, 1, &b, &e) == AUG_EDATA && !strcmp(e.msg, "no node set named 'nosuch'"),
-            "set: %s", e.msg);
-    aug_constraint_parse("box:5,5,6,6", &c[0]);
-    T_CHECK(aug_constrain_step(c, 1, &m, 1, &b, &e) == AUG_EDATA, "empty box: %s", e.msg);
+    T_CHECK(aug_constrain_step(c, 3, &m, 3, 3, &b, &e) == 0 && b.nfix == 0, "step 3: none");
     aug_bdelta_free(&b);
+    aug_mesh_free(&m);
+}
+
+static void t_drag_parse(void)
+{
+    aug_constraint c;
+    T_CHECK(aug_drag_parse("tip:0,1e-3,0", &c) == 0 && c.drag && !strcmp(c.set, "tip") && c.nv == 3 &&
+                c.v[1] == 1e-3 && c.nbox == 0,
+            "set");
+    T_CHECK(aug_drag_parse("a:b:1,2", &c) == 0 && !strcmp(c.set, "a:b") && c.nv == 2 && c.v[0] == 1, "last ':'");
+    T_CHECK(aug_drag_parse("box:0,0,1,1:0.5,-1", &c) == 0 && !c.set[0] && c.nbox == 4 && c.hi[1] == 1 &&
+                c.nv == 2 && c.v[1] == -1,
+            "2-D box");
+    T_CHECK(aug_drag_parse("box:0,0,0,1,1,2:0,0,0.1", &c) == 0 && c.nbox == 6 && c.hi[2] == 2 && c.v[2] == 0.1,
+            "3-D box");
+    const char *bad[] = {"", "tip", "tip:", ":1,2", "tip:1", "tip:1,2,3,4", "tip:nan,0", "tip:1,inf",
+                         "tip:1,x", "box:1,2,3:1,2", "box:1,2,3,4,5:1,2", "box:0,0,1,1", "box:0,0,0,1,1,1"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++)
+        T_CHECK(aug_drag_parse(bad[i], &c) == -1, "'%s' accepted", bad[i]);
+}
+
+/* --drag: (k / N) d at every step k, after a --constrain of the same step on the same nodes */
+static void t_drag_step(void)
+{
+    aug_mesh m;
+    tm_rect(&m, 2, 2, 2, 2, 1, 0.3, 1); /* node (i,j) = i + 3 j at (i, j) */
+    aug_constraint c[2];
+    aug_constraint_parse("box:1.5,-1,3,3=7,7@2", &c[0]);
+    aug_drag_parse("box:1.5,-1,3,3:0.3,-0.6", &c[1]);
+    aug_err e;
+    for (long k = 1; k <= 3; k++) {
+        aug_bdelta b;
+        aug_bdelta_init(&b);
+        T_CHECK(aug_constrain_step(c, 2, &m, k, 3, &b, &e) == 0, "step %ld: %s", k, e.msg);
+        aug_bdelta_finish(&b);
+        T_CHECK(b.nfix == 6, "step %ld: %lld constraints", k, (long long)b.nfix);
+        for (int64_t i = 0; i < b.nfix && b.nfix == 6; i++) {
+            int node = b.fix_dof[i] / 2, comp = b.fix_dof[i] % 2;
+            double want = ((double)k / 3.0) * (comp ? -0.6 : 0.3);
+            T_CHECK(node % 3 == 2 && b.fix_val[i] == want, "step %ld: dof %d = %.17g, want %.17g", k,
+                    b.fix_dof[i], b.fix_val[i], want);
+        }
+        aug_bdelta_free(&b);
+    }
+    aug_mesh_free(&m);
+}
+
+/* specs that do not fit the mesh: aug_constrain_step's code and message */
+static void t_misfits(void)
+{
+    static const struct {
+        int drag;
+        const char *spec;
+        int code;
+        const char *msg;
+    } w[] = {
+        {0, "left=1,2,3", AUG_EUSAGE, "--constrain: 3 values for a 2-D mesh"},
+        {0, "box:0,0,0,1,1,1", AUG_EUSAGE, "--constrain: a box of 6 numbers for a 2-D mesh"},
+        {0, "nosuch", AUG_EDATA, "--constrain: no node set named 'nosuch'"},
+        {0, "box:5,5,6,6", AUG_EDATA, "--constrain: the constraint box holds no node"},
+        {1, "box:1.5,-1,3,3:1,2,3", AUG_EUSAGE, "--drag: 3 values for a 2-D mesh"},
+        {1, "box:0,0,0,1,1,1:1,2", AUG_EUSAGE, "--drag: a box of 6 numbers for a 2-D mesh"},
+        {1, "grip:1,2", AUG_EDATA, "--drag: no node set named 'grip'"},
+        {1, "box:5,5,6,6:1,2", AUG_EDATA, "--drag: the constraint box holds no node"},
+    };
+    aug_mesh m;
+    tm_rect(&m, 2, 2, 2, 2, 1, 0.3, 1);
+    for (size_t i = 0; i < sizeof w / sizeof *w; i++) {
+        aug_constraint c;
+        aug_err e;
+        aug_bdelta b;
+        aug_bdelta_init(&b);
+        int prc = w[i].drag ? aug_drag_parse(w[i].spec, &c) : aug_constraint_parse(w[i].spec, &c);
+        int rc = aug_constrain_step(&c, 1, &m, 1, 3, &b, &e);
+        T_CHECK(prc == 0 && rc == w[i].code && !strcmp(e.msg, w[i].msg), "%s: %d (%s)", w[i].spec, rc, e.msg);
+        aug_bdelta_free(&b);
+    }
     aug_mesh_free(&m);
 }
 
@@ -99,5 +161,8 @@ int main(void)
 {
     T_RUN(t_parse);
     T_RUN(t_step);
+    T_RUN(t_drag_parse);
+    T_RUN(t_drag_step);
+    T_RUN(t_misfits);
     T_EXIT();
 }
