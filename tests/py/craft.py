@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Crafts bad streams from valid ones for tests/records_*.test, with every CRC
 and the TAIL count recomputed, so the damage is behind the framing: records
-that disagree, non-finite and absurd values, names with control bytes.
+that disagree, non-finite and absurd values, names with control bytes; and a
+few valid streams no tool writes (rewrite, csv-names).
 
 usage: craft.py KIND IN [IN2] > OUT
   dofm-swap      DOFM with a fixed and a free DOF exchanged (same ndof, nfree)
@@ -18,6 +19,8 @@ usage: craft.py KIND IN [IN2] > OUT
   after-tail     the stream twice, one after the other
   empty-deflate  + a pROv record with an empty deflated payload
   unsafe-anc     + ancillary records zQZW (unsafe to copy) and zQZw (safe) after the mesh
+  rewrite        + step 1: an MDLT re-wiring every element as it is (no new node) and an
+                 empty UPDT: every element is the step's, for refine's bisection in 3-D
 """
 import math, struct, sys, zlib
 
@@ -159,6 +162,13 @@ def main():
         i = first(recs, "oUTs") if any(r[0] == "oUTs" for r in recs) else first(recs, "ELEM")
         recs.insert(i + 1, ("zQZw", 0, -1, b"safe to copy"))
         recs.insert(i + 1, ("zQZW", 0, -1, b"unsafe to copy"))
+    elif kind == "rewrite":
+        dim, nv = mesh_dims(recs)
+        q = recs[first(recs, "ELEM")][3]
+        ne = struct.unpack_from("<q", q, 8)[0]
+        conn = q[16:16 + 4 * nv * ne]
+        md = struct.pack("<qq", 0, ne) + struct.pack("<%di" % ne, *range(ne)) + conn + struct.pack("<qii", 0, 0, 0)
+        recs = [r for r in recs if r[0] != "TAIL"] + [("MDLT", 0, 1, md), ("UPDT", 0, 1, struct.pack("<ii", 0, 0))]
     else:
         raise SystemExit(__doc__)
     sys.stdout.buffer.write(build(recs))
