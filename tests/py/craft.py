@@ -19,6 +19,8 @@ usage: craft.py KIND IN [IN2] > OUT
   after-tail     the stream twice, one after the other
   empty-deflate  + a pROv record with an empty deflated payload
   unsafe-anc     + ancillary records zQZW (unsafe to copy) and zQZw (safe) after the mesh
+  csv-names      the first sTAt's tag (and its tIMe's) = 'a,b"c', its first key = 'q"u,o',
+                 the tIMe's = 'ms,x'; the second sTAt's (and tIMe's) tag = 'x\ny' (RFC 4180)
   rewrite        + step 1: an MDLT re-wiring every element as it is (no new node) and an
                  empty UPDT: every element is the step's, for refine's bisection in 3-D
 """
@@ -162,6 +164,20 @@ def main():
         i = first(recs, "oUTs") if any(r[0] == "oUTs" for r in recs) else first(recs, "ELEM")
         recs.insert(i + 1, ("zQZw", 0, -1, b"safe to copy"))
         recs.insert(i + 1, ("zQZW", 0, -1, b"unsafe to copy"))
+    elif kind == "csv-names":
+        def rename(i, tag=None, key=None):
+            p = bytearray(recs[i][3])
+            if tag is not None:
+                p[0:16] = tag + b"\0" * (16 - len(tag))
+            if key is not None:
+                p[24:40] = key + b"\0" * (16 - len(key))  # the first key
+            put(recs, i, p)
+        st = [i for i, r in enumerate(recs) if r[0] == "sTAt"]
+        for j, (tag, key, tkey) in enumerate(((b'a,b"c', b'q"u,o', b"ms,x"), (b"x\ny", None, None))):
+            old = recs[st[j]][:3:2] + (recs[st[j]][3][:16],)
+            for i, r in enumerate(recs):
+                if r[0] in ("sTAt", "tIMe") and r[2] == old[1] and r[3][:16] == old[2]:
+                    rename(i, tag, key if r[0] == "sTAt" else tkey)
     elif kind == "rewrite":
         dim, nv = mesh_dims(recs)
         q = recs[first(recs, "ELEM")][3]
