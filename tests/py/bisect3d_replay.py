@@ -30,7 +30,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import augstream  # noqa: E402
 import cutsys  # noqa: E402
-from refine_quality import dihedrals, kv, tet_aspect  # noqa: E402
+from refine_quality import dihedrals, tet_aspect  # noqa: E402
 
 
 def fail(msg):
@@ -50,7 +50,7 @@ def main():
         fail("not a 3-D mesh")
     md = [p for t, fl, s, p in rin if t == "MDLT" and s == 1]
     fo = [p for t, fl, s, p in rout if t == "MDLT" and s == 1]
-    ql = [kv(p)[1] for t, fl, s, p in rout if t == "qUAl" and s == 1 and kv(p)[0] == "refine"]
+    ql = [augstream.kv(p)[1] for t, fl, s, p in rout if t == "qUAl" and s == 1 and augstream.kv(p)[0] == "refine"]
     if len(md) != 1 or len(fo) != 1 or len(ql) != 1:
         fail("step 1 needs one MDLT in IN, one MDLT and one qUAl of refine in OUT")
     d, f, q = cutsys.mdlt(md[0], 3, 4), cutsys.mdlt(fo[0], 3, 4), ql[0]

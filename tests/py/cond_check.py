@@ -20,7 +20,6 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import augstream  # noqa: E402
 import cutsys  # noqa: E402
 from check_field import Envelope  # noqa: E402
-from refine_quality import kv  # noqa: E402
 
 
 def pd(K, n, diag, sign):
@@ -39,7 +38,7 @@ def main():
     args = sys.argv[1:]
     recs = augstream.records(open(args[0], "rb").read())
     ks = [cutsys.kmat(p) for t, fl, s, p in recs if t == "KMAT"]
-    cs = [kv(p)[1] for t, fl, s, p in recs if t == "cOND"]
+    cs = [augstream.kv(p)[1] for t, fl, s, p in recs if t == "cOND"]
     K = [k for k in ks if k[0] == 0]
     if len(K) != 1 or len(cs) != 1:
         sys.exit("cond_check: %s: want one KMAT (which 0) and one cOND" % args[0])

@@ -10,28 +10,17 @@ the record; every cell the record's value (sTAt over tIMe), empty where the
 records have none. Prints the failures; exit 1 on any."""
 import csv
 import os
-import struct
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import augstream  # noqa: E402
 
 
-def kv(p):
-    tag = p[:16].split(b"\0")[0].decode()
-    n, = struct.unpack_from("<i", p, 16)
-    d = {}
-    for i in range(n):
-        o = 24 + 24 * i
-        d[p[o:o + 16].split(b"\0")[0].decode()] = struct.unpack_from("<d", p, o + 16)[0]
-    return tag, d
-
-
 def main():
     stat, time = {}, {}
     for t, f, s, p in augstream.records(open(sys.argv[1], "rb").read()):
         if t in ("sTAt", "tIMe"):
-            tag, d = kv(p)
+            tag, d = augstream.kv(p)
             (stat if t == "sTAt" else time)[(s, tag)] = d
     rows = list(csv.reader(open(sys.argv[2], newline="")))
     head, body = rows[0], rows[1:]

@@ -28,7 +28,6 @@ nodes_added=.. capped=.. bisections=.. flips=..', then 'ok'; exit 1 on the
 first failure."""
 import math
 import os
-import struct
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -39,16 +38,6 @@ import cutsys  # noqa: E402
 def fail(msg):
     print("refine_quality: %s: %s" % (sys.argv[1], msg))
     sys.exit(1)
-
-
-def kv(p):
-    tag = p[:16].split(b"\0", 1)[0].decode()
-    n, = struct.unpack_from("<i", p, 16)
-    vals = {}
-    for i in range(n):
-        o = 24 + 24 * i
-        vals[p[o:o + 16].split(b"\0", 1)[0].decode()] = struct.unpack_from("<d", p, o + 16)[0]
-    return tag, vals
 
 
 def sub(a, b):
@@ -141,7 +130,7 @@ def main():
     m = augstream.mesh(recs)
     cm = cutsys.CutMesh(m)
     dim, nv = cm.dim, cm.nv
-    qual = {s: kv(p)[1] for t, fl, s, p in recs if t == "qUAl" and kv(p)[0] == "refine"}
+    qual = {s: augstream.kv(p)[1] for t, fl, s, p in recs if t == "qUAl" and augstream.kv(p)[0] == "refine"}
     if not qual:
         fail("no qUAl of refine")
     for t, fl, s, p in recs:

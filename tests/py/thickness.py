@@ -21,7 +21,6 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import augstream  # noqa: E402
 import cutsys  # noqa: E402
 from check_field import field  # noqa: E402
-from refine_quality import kv  # noqa: E402
 
 
 def fail(msg):
@@ -73,7 +72,7 @@ def main():
                 close([t * v for v in ua[3]], list(ub[3]), 1e-13, "step %d: UPDT E of t = %g vs t E of t = 1" % (step, t))
             nu += 1
         elif typ == "cOND":
-            ca, cb = kv(p)[1], kv(q)[1]
+            ca, cb = augstream.kv(p)[1], augstream.kv(q)[1]
             for k in ("lambda_max", "lambda_min"):
                 if not abs(cb[k] - t * ca[k]) <= 1e-9 * t * ca[k]:
                     fail("cOND %s %.17g, t times that of t = 1 is %.17g" % (k, cb[k], t * ca[k]))
