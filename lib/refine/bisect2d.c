@@ -310,6 +310,10 @@ int aug_bisect2d(aug_work *w, const int64_t *seeds, int64_t nseed, const aug_ref
         touched.n = 0;
         int32_t v0 = w->ver[t];
         for (int it = 0; w->ver[t] == v0 && it < 256; it++) { /* until t itself is split */
+            if (w->m.nn - w->nn_begin >= cap) { /* each bisection or centroid adds one node */
+                st->capped++;
+                break;
+            }
             lepp(w, t, &a, &b);
             const int32_t *sl = aug_edgemap_get(&w->adj, a, b);
             int64_t t1 = sl[0], t2 = sl[1];

@@ -116,6 +116,17 @@ def mesh(recs):
     return m
 
 
+def kv(p):
+    """a named-value record (sTAt, tIMe, qUAl, cOND): (tag, {key: value})"""
+    tag = name(p[:16])
+    n, = struct.unpack_from("<i", p, 16)
+    vals = {}
+    for i in range(n):
+        o = 24 + 24 * i
+        vals[name(p[o:o + 16])] = struct.unpack_from("<d", p, o + 16)[0]
+    return tag, vals
+
+
 def measure(m, e):
     """signed volume (tet4) or area (tri3) of element e"""
     P = [m["x"][i] for i in m["conn"][e]]

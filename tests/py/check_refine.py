@@ -31,16 +31,6 @@ def fail(msg):
     sys.exit(1)
 
 
-def kv(p):
-    tag = p[:16].split(b"\0", 1)[0].decode()
-    n, = struct.unpack_from("<i", p, 16)
-    vals = {}
-    for i in range(n):
-        o = 24 + 24 * i
-        vals[p[o:o + 16].split(b"\0", 1)[0].decode()] = struct.unpack_from("<d", p, o + 16)[0]
-    return tag, vals
-
-
 def mdlt(p, dim, nv):
     pos = 0
     nnew, = struct.unpack_from("<q", p, pos)
@@ -84,7 +74,7 @@ def main():
         si = [r for r in rin if r[2] == s]
         so = [r for r in rout if r[2] == s]
         has_md = any(r[0] == "MDLT" for r in si)
-        extra = [r for r in so if r[0] in ("qUAl", "tIMe") and kv(r[3])[0] == "refine"]
+        extra = [r for r in so if r[0] in ("qUAl", "tIMe") and augstream.kv(r[3])[0] == "refine"]
         if has_md and len(extra) != 2:
             fail("step %d: %d qUAl/tIMe records of refine" % (s, len(extra)))
         so = [r for r in so if r not in extra]
@@ -97,7 +87,7 @@ def main():
                 fail("step %d: %s changed" % (s, r[0]))
         for r in extra:
             if r[0] == "qUAl":
-                qual[s] = kv(r[3])[1]
+                qual[s] = augstream.kv(r[3])[1]
     # 3. the refined mesh of every step, against the cut's own mesh of that step
     m = augstream.mesh(rout)
     dim, nv = m["dim"], m["nv"]

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Crafts bad streams from valid ones for tests/records_*.test, with every CRC
 and the TAIL count recomputed, so the damage is behind the framing: records
-that disagree, non-finite and absurd values, names with control bytes.
+that disagree, non-finite and absurd values, names with control bytes; and a
+few valid streams no tool writes (rewrite, csv-names).
 
 usage: craft.py KIND IN [IN2] > OUT
   dofm-swap      DOFM with a fixed and a free DOF exchanged (same ndof, nfree)
@@ -29,6 +30,10 @@ usage: craft.py KIND IN [IN2] > OUT
   reac-nan       the last rEAC's first reaction = NaN
   reac-long      the last rEAC with 8 bytes more than its counts say
   reac-name      the last rEAC with two sets, its second one named as its first
+  csv-names      the first sTAt's tag (and its tIMe's) = 'a,b"c', its first key = 'q"u,o',
+                 the tIMe's = 'ms,x'; the second sTAt's (and tIMe's) tag = 'x\ny' (RFC 4180)
+  rewrite        + step 1: an MDLT re-wiring every element as it is (no new node) and an
+                 empty UPDT: every element is the step's, for refine's bisection in 3-D
 """
 import math, struct, sys, zlib
 
@@ -221,6 +226,27 @@ def main():
         else:
             raise SystemExit(__doc__)
         put(recs, i, p)
+    elif kind == "csv-names":
+        def rename(i, tag=None, key=None):
+            p = bytearray(recs[i][3])
+            if tag is not None:
+                p[0:16] = tag + b"\0" * (16 - len(tag))
+            if key is not None:
+                p[24:40] = key + b"\0" * (16 - len(key))  # the first key
+            put(recs, i, p)
+        st = [i for i, r in enumerate(recs) if r[0] == "sTAt"]
+        for j, (tag, key, tkey) in enumerate(((b'a,b"c', b'q"u,o', b"ms,x"), (b"x\ny", None, None))):
+            old = recs[st[j]][:3:2] + (recs[st[j]][3][:16],)
+            for i, r in enumerate(recs):
+                if r[0] in ("sTAt", "tIMe") and r[2] == old[1] and r[3][:16] == old[2]:
+                    rename(i, tag, key if r[0] == "sTAt" else tkey)
+    elif kind == "rewrite":
+        dim, nv = mesh_dims(recs)
+        q = recs[first(recs, "ELEM")][3]
+        ne = struct.unpack_from("<q", q, 8)[0]
+        conn = q[16:16 + 4 * nv * ne]
+        md = struct.pack("<qq", 0, ne) + struct.pack("<%di" % ne, *range(ne)) + conn + struct.pack("<qii", 0, 0, 0)
+        recs = [r for r in recs if r[0] != "TAIL"] + [("MDLT", 0, 1, md), ("UPDT", 0, 1, struct.pack("<ii", 0, 0))]
     else:
         raise SystemExit(__doc__)
     sys.stdout.buffer.write(build(recs))
