@@ -11,6 +11,9 @@
 /* Linear elastic element stiffness of element e (tet4: 12x12, tri3 plane
    stress with thickness t: 6x6), column-major, local dof order node*dim+c. */
 void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke);
+/* Consistent load of the body force rho * m->grav (GRAV) on element e;
+   0 (be zeroed) when the mesh has none. */
+int aug_elem_body(const aug_mesh *m, int64_t e, double *be);
 /* Consistent (lumped = 0) or row-sum lumped (lumped = 1) mass matrix of e. */
 void aug_elem_mass(const aug_mesh *m, int64_t e, int lumped, double *Me);
 

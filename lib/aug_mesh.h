@@ -50,10 +50,11 @@ typedef struct aug_mesh {
     int64_t nout;
     int32_t *out_nodes;
     int have;                 /* bit mask of records absorbed (AUG_HAVE_*) */
+    double grav[3];           /* GRAV: body force rho * grav per unit volume (0: none) */
 } aug_mesh;
 
 enum { AUG_HAVE_NODE = 1, AUG_HAVE_ELEM = 2, AUG_HAVE_MATL = 4, AUG_HAVE_FIXD = 8,
-       AUG_HAVE_LOAD = 16, AUG_HAVE_OUTS = 32 };
+       AUG_HAVE_LOAD = 16, AUG_HAVE_OUTS = 32, AUG_HAVE_GRAV = 64 };
 
 void aug_mesh_init(aug_mesh *m);
 void aug_mesh_free(aug_mesh *m);

@@ -73,12 +73,6 @@ int aug_mesh_fix_marked(aug_mesh *m, const unsigned char *mark, aug_err *e);
    equally among the nodes). */
 void aug_load_spread(const aug_mesh *m, const int32_t *nodes, int64_t n, const double F[3],
                      double *f);
-/* f[i*dim + c] += rho g[c] |e| t / nv for each node i of each element e, rho
-   and t (2-D thickness; 1 in 3-D) of its material, |e| its volume (tet4) or
-   area (tri3): the consistent load of the constant body force rho g on linear
-   elements (integral of rho g N_i over e = rho g |e| / nv, the shape functions
-   N_i integrating to |e| / nv). */
-void aug_load_gravity(const aug_mesh *m, const double g[3], double *f);
 /* LOAD := the nonzero entries of the dense nodal force vector f[nn*dim]. */
 int aug_mesh_set_load(aug_mesh *m, const double *f, aug_err *e);
 /* oUTs := kind (AUG_OUT_*), name, nodes (copied; none for AUG_OUT_ALL). */
@@ -158,8 +152,8 @@ int aug_scene_spec_add(aug_scene_spec *s, const char *opt, const char *text, aug
    LOAD := the sum of the --load forces: a set's total F split equally among
    its nodes (aug_load_spread), a point's F on the node nearest it; an
    unknown or empty set is a problem, and so is fz != 0 on a 2-D mesh (which
-   ignores fz). Then --gravity g adds the body force rho g of each element's
-   material as its consistent nodal load (aug_load_gravity); with g != 0 a
+   ignores fz). GRAV := --gravity g, the body force rho g of each element's
+   material (formats/stream.md 5.8, assembled per element: aug_elem_body); with g != 0 a
    material of rho = 0 that some element uses is a problem naming it, and so
    is gz != 0 on a 2-D mesh.
    oUTs := output: all; surface (aug_mesh_boundary_nodes); or a set (unknown

@@ -71,10 +71,11 @@ static double load_now(const ubuild *b, int32_t dof)
     return aug_mesh_load(b->A, dof);
 }
 
-/* element stiffness (and, Me non-NULL, the mass of kind lumped) of the
-   element with connectivity conn and material mat in A */
+/* element stiffness (and, Me non-NULL, the mass of kind lumped; be non-NULL,
+   the load of the body force, aug_elem_body) of the element with
+   connectivity conn and material mat in A */
 static void element(const aug_mesh *A, const int32_t *conn, int32_t mat, double *Ke, double *Me,
-                    int lumped)
+                    int lumped, double *be)
 {
     aug_mesh t;
     double x[12];
@@ -92,8 +93,10 @@ static void element(const aug_mesh *A, const int32_t *conn, int32_t mat, double 
     t.mat = &mt;
     t.nmat = A->nmat;
     t.mats = A->mats;
+    memcpy(t.grav, A->grav, sizeof t.grav);
     aug_elem_stiffness(&t, 0, Ke);
     if (Me) aug_elem_mass(&t, 0, lumped, Me);
+    if (be) aug_elem_body(&t, 0, be);
 }
 
 static int cmp_hent(const void *a, const void *b)
@@ -265,6 +268,21 @@ static void add_element(ubuild *b, double *E, const int32_t *cc, int now, const 
     }
 }
 
+/* the element's body-force load be at its free DOFs of Hbar into f (fo before
+   the step, fn after: df carries fn - fo, formats/stream.md 5.8) */
+static void add_body(ubuild *b, const int32_t *cc, int now, const double *be, double *f)
+{
+    for (int a = 0; a < b->nv; a++)
+        for (int c = 0; c < b->dim; c++) {
+            int l = a * b->dim + c;
+            int32_t dof = cc[a] * b->dim + c;
+            int64_t g = aug_cut_index(b->A, b->nn0, b->map0, b->nfree0, cc[a], c);
+            if (be[l] == 0 || g < 0 || (now ? fixed_now(b, dof, NULL) : fixed_prev(b, dof, NULL))) continue;
+            int64_t p = hpos(b->h, b->m, b->nprev, g);
+            if (p >= 0) f[p] += be[l];
+        }
+}
+
 /* the element's matrices into E (statics: K with the lift; dynamics: A =
    cM M + cK K into E, K with the lift into EK, M into EM) */
 static void add_matrices(ubuild *b, const int32_t *cc, int now, const double *K, const double *M,
@@ -291,19 +309,22 @@ static void stiffness_change(ubuild *b)
     for (int64_t q = 0; q < b->nel; q++) {
         int32_t i = b->el[q];
         const int32_t *oc = old_conn(b, i), *nc = A->conn + (int64_t)i * b->nv;
-        double Ko[144], Kn[144], Mo[144], Mn[144];
+        double Ko[144], Kn[144], Mo[144], Mn[144], bo[12], bn[12];
         double *mo = b->dyn ? Mo : NULL, *mn = b->dyn ? Mn : NULL;
         if (oc) {
-            element(A, oc, A->mat[i], Ko, mo, lumped);
+            element(A, oc, A->mat[i], Ko, mo, lumped, bo);
             add_matrices(b, oc, 0, Ko, mo, 1.0, b->fo);
+            add_body(b, oc, 0, bo, b->fo);
         }
         if (oc && memcmp(oc, nc, (size_t)b->nv * sizeof *nc) == 0) {
             memcpy(Kn, Ko, sizeof Kn);
+            memcpy(bn, bo, sizeof bn);
             if (mn) memcpy(Mn, Mo, sizeof Mn);
         } else {
-            element(A, nc, A->mat[i], Kn, mn, lumped);
+            element(A, nc, A->mat[i], Kn, mn, lumped, bn);
         }
         add_matrices(b, nc, 1, Kn, mn, -1.0, b->fn);
+        add_body(b, nc, 1, bn, b->fn);
     }
 }
 

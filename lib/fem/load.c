@@ -4,7 +4,8 @@
 #include <string.h>
 #include "aug_fem.h"
 
-/* f_F = l_F - K_FD a_D (paper 000 eq. 11, paper 001 eq. 3.29, on the free rows),
+/* f_F = l_F + b_F - K_FD a_D (paper 000 eq. 11, paper 001 eq. 3.29, on the free
+   rows; b the body force of GRAV, element by element),
    K_FD accumulated element by element (element order): f[map[r]] -= Ke(r, d) a_d
    for every free r and constrained d of each element. */
 int aug_load_vector(const aug_mesh *m, const int32_t *map, int64_t nfree, double *f,
@@ -18,6 +19,12 @@ int aug_load_vector(const aug_mesh *m, const int32_t *map, int64_t nfree, double
         int32_t q = map[m->load_dof[t]];
         if (q >= 0) f[q] += m->load_val[t];
     }
+    double be[12];
+    for (int64_t el = 0; el < m->ne && aug_elem_body(m, el, be); el++)
+        for (int k = 0; k < n; k++) {
+            int32_t q = map[(int64_t)m->conn[el * nv + k / d] * d + k % d];
+            if (q >= 0) f[q] += be[k];
+        }
     if (m->nfix == 0) return 0;
     double *a = aug_calloc((size_t)(nd ? nd : 1), sizeof *a);
     if (!a) return aug_err_set(e, AUG_ENOMEM, -1, "FVEC", "out of memory");

@@ -41,7 +41,7 @@ void aug_reactions(const aug_mesh *m, const int32_t *elems, int64_t nel, const d
                    const aug_react_dyn *dyn, double *r)
 {
     int d = m->dim, nd = m->nv * d;
-    double Ke[144], Me[144], w[12], z[12];
+    double Ke[144], Me[144], w[12], z[12], be[12];
     int64_t pos[12];
     memset(r, 0, (size_t)m->nfix * sizeof *r);
     for (int64_t t = 0; t < nel; t++) {
@@ -56,6 +56,7 @@ void aug_reactions(const aug_mesh *m, const int32_t *elems, int64_t nel, const d
         }
         if (!any) continue;
         aug_elem_stiffness(m, elems[t], Ke);
+        aug_elem_body(m, elems[t], be);
         if (dyn) aug_elem_mass(m, elems[t], dyn->lumped, Me);
         for (int i = 0; i < nd; i++) {
             if (pos[i] < 0) continue;
@@ -63,7 +64,7 @@ void aug_reactions(const aug_mesh *m, const int32_t *elems, int64_t nel, const d
             for (int j = 0; j < nd; j++) s += Ke[(size_t)j * nd + i] * w[j];
             if (dyn)
                 for (int j = 0; j < nd; j++) s += Me[(size_t)j * nd + i] * z[j];
-            r[pos[i]] += s;
+            r[pos[i]] += s - be[i];
         }
     }
     for (int64_t k = 0; k < m->nfix; k++) {

@@ -8,7 +8,7 @@
 
 int aug_mesh_is_record(const char *t)
 {
-    static const char *types[] = {"NODE", "ELEM", "MATL", "nSEt", "FIXD", "LOAD", "oUTs"};
+    static const char *types[] = {"NODE", "ELEM", "MATL", "nSEt", "FIXD", "LOAD", "oUTs", "GRAV"};
     for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
         if (memcmp(t, types[i], 4) == 0) return 1;
     return 0;
@@ -195,6 +195,21 @@ static int absorb_outs(aug_mesh *m, const aug_rec *rec, aug_err *e)
     return 0;
 }
 
+/* GRAV: f64 g[3], finite, |g| <= 1e12 */
+static int absorb_grav(aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    double g[3];
+    for (int i = 0; i < 3; i++) g[i] = aug_cur_f64(&c);
+    if (!c.ok || c.pos != c.len) return BAD("payload is not 24 bytes");
+    for (int i = 0; i < 3; i++)
+        if (!(fabs(g[i]) <= 1e12))
+            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "component %d is %g", i, g[i]);
+    memcpy(m->grav, g, sizeof g);
+    return 0;
+}
+
 int aug_mesh_absorb(aug_mesh *m, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
@@ -209,6 +224,7 @@ int aug_mesh_absorb(aug_mesh *m, const aug_rec *rec, aug_err *e)
     else if (!memcmp(t, "LOAD", 4))
         rc = absorb_dofval(m, rec, &m->nload, &m->load_dof, &m->load_val, e), bit = AUG_HAVE_LOAD;
     else if (!memcmp(t, "oUTs", 4)) rc = absorb_outs(m, rec, e), bit = AUG_HAVE_OUTS;
+    else if (!memcmp(t, "GRAV", 4)) rc = absorb_grav(m, rec, e), bit = AUG_HAVE_GRAV;
     else return aug_err_set(e, AUG_EUSAGE, rec->index, t, "not a mesh record");
     if (!rc) m->have |= bit;
     return rc;
@@ -270,6 +286,10 @@ int aug_mesh_write(aug_writer *w, const aug_mesh *m, aug_err *e)
         put_dofval(&b, m->nload, m->load_dof, m->load_val);
         if (put(w, "LOAD", &b, e)) return e->code;
     }
+    if (m->have & AUG_HAVE_GRAV) {
+        aug_buf_f64v(&b, m->grav, 3);
+        if (put(w, "GRAV", &b, e)) return e->code;
+    }
     if (m->have & AUG_HAVE_OUTS) {
         aug_buf_i32(&b, m->out_kind);
         aug_buf_i32(&b, 0);
@@ -290,7 +310,7 @@ static int check_alone(const aug_rec *rec, aug_err *e)
     aug_mesh_init(&m);
     int rc = 0;
     const char *t = rec->type;
-    if (!memcmp(t, "NODE", 4) || !memcmp(t, "MATL", 4)) {
+    if (!memcmp(t, "NODE", 4) || !memcmp(t, "MATL", 4) || !memcmp(t, "GRAV", 4)) {
         rc = aug_mesh_absorb(&m, rec, e);
         aug_mesh_free(&m);
         return rc;
@@ -390,6 +410,9 @@ static int mesh_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
         dump_dofval(o, m->fix_dof, m->fix_val, m->nfix);
     } else if (!memcmp(t, "LOAD", 4)) {
         dump_dofval(o, m->load_dof, m->load_val, m->nload);
+    } else if (!memcmp(t, "GRAV", 4)) {
+        fputs("  g ", o), aug_txt_f(o, m->grav[0]), fputc(' ', o), aug_txt_f(o, m->grav[1]);
+        fputc(' ', o), aug_txt_f(o, m->grav[2]), fputc('\n', o);
     } else {
         fprintf(o, "  kind %d\n", m->out_kind);
         aug_txt_name(o, "name", m->out_name, AUG_NAME);
@@ -406,3 +429,4 @@ CODEC(aug_codec_nset);
 CODEC(aug_codec_fixd);
 CODEC(aug_codec_load);
 CODEC(aug_codec_outs);
+CODEC(aug_codec_grav);

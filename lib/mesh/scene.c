@@ -103,18 +103,6 @@ void aug_load_spread(const aug_mesh *m, const int32_t *nodes, int64_t n, const d
         for (int c = 0; c < m->dim; c++) f[(int64_t)nodes[j] * m->dim + c] += F[c] / (double)n;
 }
 
-/* f_i += rho g |e| t / nv for the nodes i of every element e: the consistent
-   load of the body force rho g (linear shape functions integrate to |e| / nv) */
-void aug_load_gravity(const aug_mesh *m, const double g[3], double *f)
-{
-    for (int64_t e = 0; e < m->ne; e++) {
-        const aug_material *a = &m->mats[m->mat[e]];
-        double w = a->rho * aug_elem_measure(m, e) * (m->dim == 2 ? a->t : 1.0) / m->nv;
-        for (int k = 0; k < m->nv; k++)
-            for (int c = 0; c < m->dim; c++) f[(int64_t)m->conn[e * m->nv + k] * m->dim + c] += w * g[c];
-    }
-}
-
 /* LOAD: the nonzero entries of f, in dof order */
 int aug_mesh_set_load(aug_mesh *m, const double *f, aug_err *e)
 {

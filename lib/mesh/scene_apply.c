@@ -88,9 +88,11 @@ static void loads(const aug_scene_spec *s, const aug_mesh *m, aug_sink *k, doubl
     }
 }
 
-/* f[nn*dim] += the body force of --gravity (aug_load_gravity); a used material
-   without density is a problem when g != 0 */
-static void gravity(const aug_scene_spec *s, const aug_mesh *m, aug_sink *k, double *f)
+/* the body force of --gravity: GRAV (formats/stream.md 5.8), assembled per
+   element wherever loads are (aug_elem_body), so that a cut or refinement
+   re-distributes it with the elements; a used material without density is a
+   problem when g != 0 */
+static void gravity(const aug_scene_spec *s, aug_mesh *m, aug_sink *k)
 {
     if (!s->gravity) return;
     if (m->dim == 2 && s->g[2] != 0)
@@ -104,7 +106,9 @@ static void gravity(const aug_scene_spec *s, const aug_mesh *m, aug_sink *k, dou
                             "--material %s:rho=.. or --default-material rho=..)", s->garg,
                             m->mats[i].name, m->mats[i].rho, m->mats[i].name);
     }
-    aug_load_gravity(m, s->g, f);
+    memcpy(m->grav, s->g, sizeof m->grav);
+    if (m->dim == 2) m->grav[2] = 0;
+    m->have |= AUG_HAVE_GRAV;
 }
 
 /* oUTs := the output set (mark: workspace of nn bytes) */
@@ -143,7 +147,7 @@ int aug_scene_spec_apply(const aug_scene_spec *s, aug_mesh *m, aug_sink *k, aug_
         materials(s, m, k);
         fixed(s, m, k, mark);
         loads(s, m, k, f);
-        gravity(s, m, k, f);
+        gravity(s, m, k);
         rc = aug_mesh_fix_marked(m, mark, e);
         if (!rc) rc = aug_mesh_set_load(m, f, e);
         if (!rc) rc = output(s, m, k, mark, e);

@@ -38,6 +38,7 @@ static const aug_rectype table[] = {
     {"FIXD", 8, AUG_MAX_BODY, 1, 1, 0, &aug_codec_fixd},
     {"LOAD", 8, AUG_MAX_BODY, 1, 1, 0, &aug_codec_load},
     {"oUTs", 80, AUG_MAX_BODY, 1, 1, 0, &aug_codec_outs},
+    {"GRAV", 24, 24, 1, 1, 0, &aug_codec_grav},
     {"DOFM", 24, AUG_MAX_BODY, 2, 1, 0, &aug_codec_dofm},
     {"KMAT", 24, AUG_MAX_BODY, 2, 0, 0, &aug_codec_kmat},
     {"FVEC", 16, AUG_MAX_BODY, 2, 0, 0, &aug_codec_fvec},

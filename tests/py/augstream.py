@@ -102,6 +102,8 @@ def mesh(recs):
             assert pos == len(p)
             assert all(dof[i] < dof[i + 1] for i in range(n - 1))
             m["fix" if typ == "FIXD" else "load"] = dict(zip(dof, val))
+        elif typ == "GRAV":
+            m["grav"] = struct.unpack_from("<3d", p, 0)
         elif typ == "oUTs":
             kind, = struct.unpack_from("<i", p, 0)
             nm = name(p[8:72])

@@ -121,7 +121,7 @@ def main():
         print("FAIL %s: DYNP cM, cK are not the integrator's" % name)
         sys.exit(1)
     dim = cm.dim
-    mats, prev, nf, worst, msg, parents = None, None, 0, 0.0, None, []
+    mats, prev, nf, worst, msg, parents, F = None, None, 0, 0.0, None, [], {}
     nr, last = 0, None  # last: (frame, u1, v1, a) of the latest checked frame
     for t, fl, s, p in recs:
         if t == "rEAC" and last is not None:
@@ -135,7 +135,7 @@ def main():
             ref = []
             for dof in dofs:
                 Ma, Mv, Ku, Kv = mult(M, acc, dof), mult(M, v1_, dof), mult(K, u1_, dof), mult(K, v1_, dof)
-                ref.append(Ma + alpha * Mv + beta * Kv + Ku - cm.load.get(dof, 0.0))
+                ref.append(Ma + alpha * Mv + beta * Kv + Ku - F.get(dof, 0.0))
             if sorted(dofs) != sorted(cm.fix):
                 msg = "frame %d: rEAC DOFs are not the constrained DOFs" % rfr
                 break
@@ -169,6 +169,7 @@ def main():
             break
         if mats is None:
             mats = assemble(cm, mkind == 2)
+        F = cm.forces()  # LOAD, BDLT loads and the body force (GRAV)
         K, M = mats
         ndof = len(u1)
         if prev is not None:
@@ -187,7 +188,7 @@ def main():
                     continue
                 Mdu, Kdu = mult(M, du, i), mult(K, du, i)
                 lhs = cM * Mdu + cK * Kdu
-                rhs = h * mult(M, v0, i) + g * h * h * (cm.load.get(i, 0.0) - mult(K, u0, i))
+                rhs = h * mult(M, v0, i) + g * h * h * (F.get(i, 0.0) - mult(K, u0, i))
                 r2 += (lhs - rhs) ** 2
                 b2 += rhs * rhs
             e = math.sqrt(r2 / b2) if b2 > 0 else math.sqrt(r2)
@@ -209,7 +210,7 @@ def main():
             free = [i for i in range(ndof) if i not in cm.fix]
             ke = 0.5 * sum(v1[i] * mult(M, v1, i) for i in free)
             pe = 0.5 * sum(u1[i] * mult(K, u1, i) for i in free)
-            w = sum(cm.load.get(i, 0.0) * u1[i] for i in free)
+            w = sum(F.get(i, 0.0) * u1[i] for i in free)
             efile.write("%d %.17g %.17g %.17g %.17g\n" % (fr, time, ke, pe, w))
         if pfile:
             mrow = [sum(M.get(i, {}).values()) for i in range(ndof)]

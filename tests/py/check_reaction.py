@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent check of the reaction forces (rEAC, formats/stream.md 7.8) from
+"""Independent check of the reaction forces (rEAC, formats/stream.md 7.10) from
 the specification only. For every rEAC of a stream, read from its `stats
 --dump` text (so the dump is checked too), with the fELD of the same step
 (every node: solve with --output all), on the mesh of that step replayed from
@@ -9,7 +9,7 @@ inherited by copies; set membership inherited by copies):
   - the DOFs are exactly the constrained DOFs of the mesh, increasing;
   - every reaction equals (K u - f) at its DOF to --rel relative (of the
     largest |K u - f|), K u summed here over the elements (cutsys.stiffness)
-    that hold the DOF's node, f the nodal loads;
+    that hold the DOF's node, f the nodal loads and the body force (GRAV);
   - the reactions balance the loads: |sum r_c + sum f_c| <= --rel (sum |r_c| +
     sum |f_c|) for every component c;
   - total is the sum of the reactions per component, and the sets are the
@@ -90,7 +90,8 @@ class Scene(cutsys.CutMesh):
 
     def ku_minus_f(self, u):
         """{dof: (K u - f)_dof} over the constrained DOFs"""
-        dim, r = self.dim, {d: -self.load.get(d, 0.0) for d in self.fix}
+        forces = self.forces()
+        dim, r = self.dim, {d: -forces.get(d, 0.0) for d in self.fix}
         for e, conn in enumerate(self.conn):
             dofs = [v * dim + c for v in conn for c in range(dim)]
             if not any(d in self.fix for d in dofs):
@@ -121,7 +122,7 @@ def check(sc, f, u, rel):
     bal = 0.0
     for c in range(dim):
         rc = [a for a, d in zip(r, dofs) if d % dim == c]
-        fc = [v for d, v in sc.load.items() if d % dim == c]
+        fc = [v for d, v in sc.forces().items() if d % dim == c]
         b = abs(sum(rc) + sum(fc)) / max(sum(map(abs, rc)) + sum(map(abs, fc)), 1e-300)
         bal = max(bal, b)
         if not b <= rel:

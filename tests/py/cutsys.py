@@ -139,6 +139,7 @@ class CutMesh:
         self.mats = m["mats"]
         self.fix = dict(m.get("fix", {}))
         self.load = dict(m.get("load", {}))
+        self.grav = tuple(m.get("grav", (0.0, 0.0, 0.0)))
         self.nn0 = len(self.x)
         self.map0, k = [], 0
         for dof in range(self.nn0 * self.dim):
@@ -190,13 +191,46 @@ class CutMesh:
         self.load.update(zip(ldof, lval))
         self.dirty.update(v // self.dim for v in dof)
 
+    def body(self, conn, mat):
+        """the element's consistent load of the body force rho * grav (5.8): per
+        DOF rho |e| t / nv * grav_c"""
+        P = [self.x[v] for v in conn]
+        if not any(self.grav):
+            return [0.0] * (len(conn) * self.dim)
+        _, _, _, _, rho, t = self.mats[mat]
+        if self.dim == 3:
+            a = [P[1][k] - P[0][k] for k in range(3)]
+            b = [P[2][k] - P[0][k] for k in range(3)]
+            c = [P[3][k] - P[0][k] for k in range(3)]
+            meas = abs(a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                       + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
+        else:
+            meas = abs((P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[2][0] - P[0][0]) * (P[1][1] - P[0][1])) / 2 * t
+        w = rho * meas / len(conn)
+        return [w * self.grav[c] for _ in conn for c in range(self.dim)]
+
+    def forces(self):
+        """the nodal forces of the mesh now, {dof: value}: LOAD (and BDLT's) plus
+        the body force of every element"""
+        f = dict(self.load)
+        if any(self.grav):
+            for e, conn in enumerate(self.conn):
+                be = self.body(conn, self.mat[e])
+                for q, v in enumerate(conn):
+                    for c in range(self.dim):
+                        d = v * self.dim + c
+                        f[d] = f.get(d, 0.0) + be[q * self.dim + c]
+        return f
+
     def element_terms(self, conn, mat, dofs):
         """the element's terms of K_t ((i, j), v) and of f_t (i, v) under the
-        current constraints of its DOFs"""
+        current constraints of its DOFs (the body force included)"""
         Ke = stiffness([self.x[v] for v in conn], self.dim, self.mats[mat])
         gi = [self.index(d) for d in dofs]
         fixed = [d in self.fix for d in dofs]
         kt, ft = [], []
+        be = self.body(conn, mat)
+        ft += [(gi[a], be[a]) for a in range(len(dofs)) if not fixed[a] and be[a] != 0]
         for b in range(len(dofs)):
             if fixed[b]:
                 vb = self.fix[dofs[b]]

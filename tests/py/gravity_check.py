@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Independent check of meshload --gravity (formats/stream.md 5.2, 5.6), from
-`stats --dump` texts only.
+"""Independent check of meshload --gravity (formats/stream.md 5.2, 5.8), from
+`stats --dump` texts of meshload | factor only.
 
 usage: gravity_check.py DUMP_G DUMP_0 gx,gy[,gz]
 
@@ -8,10 +8,12 @@ DUMP_G is the dump of a stream made with --gravity g, DUMP_0 of the same
 command without it. From DUMP_G's NODE, MATL and ELEM the volume of every
 element is computed here (tet4: det[p1-p0, p2-p0, p3-p0] / 6; tri3: the
 cross product / 2), and its body force rho g |e| t (t: the material's
-thickness in 2-D, 1 in 3-D) shared equally by its nodes. Checks, to 1e-12
-relative to the largest load: LOAD of DUMP_G = LOAD of DUMP_0 + those shares,
-node by node; the sum of each component of the gravity part = g_c sum over
-materials of rho t V. Prints one line per material "mat NAME rho R t T
+thickness in 2-D, 1 in 3-D) shared equally by its nodes. Checks: DUMP_G has
+GRAV = g and the same LOAD as DUMP_0 (gravity is a body force, assembled per
+element, not a nodal load); to 1e-12 relative to the largest entry: the load
+vector FVEC of DUMP_G = FVEC of DUMP_0 + those shares at every free DOF
+(DOFM); the sum of each component of the shares = g_c sum over materials of
+rho t V. Prints one line per material "mat NAME rho R t T
 volume V" (V: the total measure of its elements), then
 "total c SUM" per component; exit 1 on a failure."""
 import sys
@@ -71,8 +73,9 @@ def measure(x, dim, c):
 
 
 def loads(recs):
-    r = recs["LOAD"][0]
-    return {int(d): v for d, v in zip(r["dof"], r["value"])}
+    """FVEC by DOF (free DOFs of DOFM)"""
+    mp, f = recs["DOFM"][0]["map"], recs["FVEC"][0]["v"]
+    return {d: f[int(q)] for d, q in enumerate(mp) if q >= 0}
 
 
 def main():
@@ -101,22 +104,29 @@ def main():
     lg, l0 = loads(rg), loads(r0)
     scale = max([abs(v) for v in lg.values()] + [1e-300])
     bad = 0
-    for dof in sorted(set(lg) | set(l0) | set(share)):
+    gr = [float(v) for v in rg["GRAV"][0]["g"].split()] if "GRAV" in rg else None
+    if gr is None or gr[:dim] != g or "GRAV" in r0:
+        print("FAIL: GRAV %s, want %s (and none without --gravity)" % (gr, g))
+        bad = 1
+    if rg.get("LOAD", [{}])[0].get("value") != r0.get("LOAD", [{}])[0].get("value"):
+        print("FAIL: --gravity changed LOAD")
+        bad = 1
+    for dof in sorted(set(lg) | set(l0)):
         want = l0.get(dof, 0.0) + share.get(dof, 0.0)
         got = lg.get(dof, 0.0)
         if abs(got - want) > 1e-12 * scale:
-            print("FAIL dof %d: LOAD %.17g, want %.17g (other loads %.17g + gravity %.17g)"
+            print("FAIL dof %d: FVEC %.17g, want %.17g (without gravity %.17g + gravity %.17g)"
                   % (dof, got, want, l0.get(dof, 0.0), share.get(dof, 0.0)))
             bad = 1
             break
     for (name, rho, t), V in zip(mats, vol):
         print("mat %s rho %.17g t %.17g volume %.15f" % (name, rho, t, V))
     for k in range(dim):
-        s = sum(lg.get(d, 0.0) - l0.get(d, 0.0) for d in range(k, len(x), dim))
+        s = sum(share.get(d, 0.0) for d in range(k, len(x), dim))
         want = g[k] * sum(rho * (t if dim == 2 else 1.0) * V for (n, rho, t), V in zip(mats, vol))
         print("total %d %.15g" % (k, s))
         if abs(s - want) > 1e-12 * max(abs(want), scale):
-            print("FAIL component %d: the gravity loads sum to %.17g, want %.17g" % (k, s, want))
+            print("FAIL component %d: the gravity shares sum to %.17g, want %.17g" % (k, s, want))
             bad = 1
     sys.exit(bad)
 
