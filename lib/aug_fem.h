@@ -78,6 +78,14 @@ cholmod_factor *aug_analyze(cholmod_sparse *K, cholmod_common *cm, aug_err *e);
    pivot column and (m, map non-NULL) its node and connected component. */
 int aug_factorize(cholmod_sparse *K, cholmod_factor *L, const aug_mesh *m, const int32_t *map,
                   cholmod_common *cm, aug_err *e);
+/* A cholmod_dense view of n doubles (no copy). */
+cholmod_dense aug_dense_view(double *x, size_t n);
+/* y = A x for a symmetric CHOLMOD matrix (cholmod_sdmult): 0 or -1. */
+int aug_sym_mult(cholmod_sparse *A, double *x, double *y, cholmod_common *cm);
+/* y = A^-1 x through its factor L (cholmod_solve2 with the caller's kept
+   workspaces X, Y, E): 0 or -1. */
+int aug_factor_apply_inv(cholmod_factor *L, double *x, double *y, cholmod_dense **X,
+                         cholmod_dense **Y, cholmod_dense **E, cholmod_common *cm);
 /* a = K^-1 f through L; relres = ||K a - f|| / ||f|| (may be NULL). */
 int aug_solve(cholmod_sparse *K, cholmod_factor *L, const double *f, double *a, double *relres,
               cholmod_common *cm, aug_err *e);

@@ -75,6 +75,8 @@ double aug_cutmat_relres(aug_cutmat *m, const double *x);
 double aug_cutmat_relres_changed(aug_cutmat *m, const double *x);
 /* r = f_t - K_t x; returns ||r|| / ||f_t|| (absolute when f_t = 0). */
 double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r);
+/* The same against a right-hand side b (NULL: f_t). */
+double aug_cutmat_residual_b(aug_cutmat *m, const double *x, const double *b, double *r);
 /* K_t as a CHOLMOD matrix, upper triangle (stype 1), sorted; exact zeros of
    changed entries are dropped. pad extra identity columns are appended. */
 cholmod_sparse *aug_cutmat_sparse(const aug_cutmat *m, int64_t pad, cholmod_common *cm);

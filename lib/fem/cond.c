@@ -16,32 +16,16 @@ typedef struct op_ctx {
     int failed;
 } op_ctx;
 
-static cholmod_dense view(double *x, size_t n)
-{
-    cholmod_dense d;
-    memset(&d, 0, sizeof d);
-    d.nrow = n, d.ncol = 1, d.nzmax = n, d.d = n, d.x = x;
-    d.xtype = CHOLMOD_REAL, d.dtype = CHOLMOD_DOUBLE;
-    return d;
-}
-
 /* y = K x */
 static void op_K(op_ctx *c, double *x, double *y)
 {
-    cholmod_dense xv = view(x, c->K->nrow), yv = view(y, c->K->nrow);
-    double one[2] = {1, 0}, zero[2] = {0, 0};
-    if (!cholmod_sdmult(c->K, 0, one, zero, &xv, &yv, c->cm)) c->failed = 1;
+    if (aug_sym_mult(c->K, x, y, c->cm)) c->failed = 1;
 }
 
 /* y = K^-1 x = P' L^-T D^-1 L^-1 P x */
 static void op_Kinv(op_ctx *c, double *x, double *y)
 {
-    cholmod_dense b = view(x, c->L->n);
-    if (!cholmod_solve2(CHOLMOD_A, c->L, &b, NULL, &c->X, NULL, &c->Y, &c->E, c->cm)) {
-        c->failed = 1;
-        return;
-    }
-    memcpy(y, c->X->x, c->L->n * sizeof *y);
+    if (aug_factor_apply_inv(c->L, x, y, &c->X, &c->Y, &c->E, c->cm)) c->failed = 1;
 }
 
 /* Largest eigenvalue theta of the symmetric operator op (ARPACK dsaupd, mode 1,

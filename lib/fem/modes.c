@@ -18,30 +18,14 @@ typedef struct mctx {
     int failed;
 } mctx;
 
-static cholmod_dense view(double *x, size_t n)
-{
-    cholmod_dense d;
-    memset(&d, 0, sizeof d);
-    d.nrow = n, d.ncol = 1, d.nzmax = n, d.d = n, d.x = x;
-    d.xtype = CHOLMOD_REAL, d.dtype = CHOLMOD_DOUBLE;
-    return d;
-}
-
 static void mult_M(mctx *c, double *x, double *y)
 {
-    cholmod_dense xv = view(x, c->M->nrow), yv = view(y, c->M->nrow);
-    double one[2] = {1, 0}, zero[2] = {0, 0};
-    if (!cholmod_sdmult(c->M, 0, one, zero, &xv, &yv, c->cm)) c->failed = 1;
+    if (aug_sym_mult(c->M, x, y, c->cm)) c->failed = 1;
 }
 
 static void solve_F(mctx *c, double *x, double *y)
 {
-    cholmod_dense b = view(x, c->L->n);
-    if (!cholmod_solve2(CHOLMOD_A, c->L, &b, NULL, &c->X, NULL, &c->Y, &c->E, c->cm)) {
-        c->failed = 1;
-        return;
-    }
-    memcpy(y, c->X->x, c->L->n * sizeof *y);
+    if (aug_factor_apply_inv(c->L, x, y, &c->X, &c->Y, &c->E, c->cm)) c->failed = 1;
 }
 
 int aug_modes_lowest(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,

@@ -1,16 +1,32 @@
-/* The intact solve a = K^-1 f with its relative residual, and the nodal field. */
+/* The intact solve a = K^-1 f with its relative residual, and the nodal field;
+   the dense views, products and factor solves the eigensolvers share. */
 #include <math.h>
 #include <string.h>
 #include "aug_fem.h"
 
-/* A cholmod_dense view of n doubles (no copy). */
-static cholmod_dense view(double *x, size_t n)
+cholmod_dense aug_dense_view(double *x, size_t n)
 {
     cholmod_dense d;
     memset(&d, 0, sizeof d);
     d.nrow = n, d.ncol = 1, d.nzmax = n, d.d = n, d.x = x;
     d.xtype = CHOLMOD_REAL, d.dtype = CHOLMOD_DOUBLE;
     return d;
+}
+
+int aug_sym_mult(cholmod_sparse *A, double *x, double *y, cholmod_common *cm)
+{
+    cholmod_dense xv = aug_dense_view(x, A->nrow), yv = aug_dense_view(y, A->nrow);
+    double one[2] = {1, 0}, zero[2] = {0, 0};
+    return cholmod_sdmult(A, 0, one, zero, &xv, &yv, cm) ? 0 : -1;
+}
+
+int aug_factor_apply_inv(cholmod_factor *L, double *x, double *y, cholmod_dense **X,
+                         cholmod_dense **Y, cholmod_dense **E, cholmod_common *cm)
+{
+    cholmod_dense b = aug_dense_view(x, L->n);
+    if (!cholmod_solve2(CHOLMOD_A, L, &b, NULL, X, NULL, Y, E, cm)) return -1;
+    memcpy(y, (*X)->x, L->n * sizeof *y);
+    return 0;
 }
 
 /* a = K^-1 f through L (cholmod_solve, [CHOLMOD]); relres = ||K a - f||_2 /
@@ -20,7 +36,7 @@ int aug_solve(cholmod_sparse *K, cholmod_factor *L, const double *f, double *a, 
 {
     aug_err_clear(e);
     size_t n = L->n;
-    cholmod_dense b = view((double *)f, n);
+    cholmod_dense b = aug_dense_view((double *)f, n);
     cholmod_dense *x = cholmod_solve(CHOLMOD_A, L, &b, cm);
     cholmod_dense *r = cholmod_copy_dense(&b, cm);
     if (!x || !r) {

@@ -225,16 +225,21 @@ void aug_cutmat_rhs(const aug_cutmat *m, double *f)
    out of memory */
 double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r)
 {
+    return aug_cutmat_residual_b(m, x, NULL, r);
+}
+
+double aug_cutmat_residual_b(aug_cutmat *m, const double *x, const double *b, double *r)
+{
     int64_t n = m->cum.n;
-    if (m->wcap < n) {
+    if (!b && m->wcap < n) {
         double *w = aug_realloc(m->work, (size_t)n * sizeof *w);
         if (!w) return NAN;
         m->work = w;
         m->wcap = n;
     }
-    double *f = m->work;
+    const double *f = b ? b : m->work;
     aug_cutmat_mult(m, x, r);
-    aug_cutmat_rhs(m, f);
+    if (!b) aug_cutmat_rhs(m, m->work);
     double rr = 0, ff = 0;
     for (int64_t i = 0; i < n; i++) {
         r[i] = f[i] - r[i];

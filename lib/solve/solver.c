@@ -467,16 +467,7 @@ static const method methods[AUG_M_COUNT] = {
 /* r = b - K_t x, returns ||r|| / ||b|| (absolute when b = 0); b NULL: f_t */
 static double residual(aug_solver *s, const double *b, const double *x, double *r)
 {
-    if (!b) return aug_cutmat_residual(&s->cut, x, r);
-    int64_t n = s->cut.cum.n;
-    aug_cutmat_mult(&s->cut, x, r);
-    double rr = 0, bb = 0;
-    for (int64_t i = 0; i < n; i++) {
-        r[i] = b[i] - r[i];
-        rr += r[i] * r[i];
-        bb += b[i] * b[i];
-    }
-    return bb > 0 ? sqrt(rr / bb) : sqrt(rr);
+    return aug_cutmat_residual_b(&s->cut, x, b, r);
 }
 
 static int refine(aug_solver *s, const method *op, const double *b, double *x, double *rr,
