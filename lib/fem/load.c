@@ -30,7 +30,7 @@ int aug_load_vector(const aug_mesh *m, const int32_t *map, int64_t nfree, double
         free(a);
         return 0;
     }
-    double Ke[144];
+    double Ke[AUG_MAX_EMAT];
     for (int64_t el = 0; el < m->ne; el++) {
         const int32_t *cn = m->conn + el * nv;
         int need = 0;
