@@ -115,6 +115,9 @@ int aug_shared_facet(int etype, const int32_t *a, const int32_t *b, int32_t *f);
    (dN_a/dxi)'. Returns det J (Hughes, The Finite Element Method, 2000,
    sec. 3.5-3.8; Zienkiewicz & Taylor vol. 1 ch. 6). */
 double aug_hex_shape(const aug_mesh *m, int64_t e, const double xi[3], double N[8], double *g);
+/* cof = the cofactors of the 3 x 3 a (cof[r][k] = (-1)^(r+k) times the
+   minor of a[r][k]); returns det a, so that (a^-1)[k][r] = cof[r][k] / det */
+double aug_cofactor3(const double a[3][3], double cof[3][3]);
 /* The 2x2x2 Gauss-Legendre rule on [-1,1]^3: point q (0..7) at (+-1/sqrt 3)^3,
    weight 1 (Hughes sec. 3.8: exact for the volume and the Q1 mass). */
 void aug_hex_gauss(int q, double xi[3]);

@@ -16,13 +16,7 @@ static double tet_grad(const aug_mesh *m, int64_t e, double g[12])
         const double *p = m->x + (size_t)c[k + 1] * 3;
         for (int r = 0; r < 3; r++) a[r][k] = p[r] - p0[r];
     }
-    double cof[3][3];
-    for (int r = 0; r < 3; r++)
-        for (int k = 0; k < 3; k++) {
-            int r1 = (r + 1) % 3, r2 = (r + 2) % 3, k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-            cof[r][k] = a[r1][k1] * a[r2][k2] - a[r1][k2] * a[r2][k1];
-        }
-    double det = a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
+    double cof[3][3], det = aug_cofactor3((const double(*)[3])a, cof);
     /* (J^-1)[k][r] = cof[r][k] / det: grad N_{k+1} = row k of J^-1 */
     for (int c0 = 0; c0 < 3; c0++) g[c0] = 0;
     for (int k = 0; k < 3; k++)

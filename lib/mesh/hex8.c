@@ -13,6 +13,17 @@ void aug_hex_gauss(int q, double xi[3])
     for (int k = 0; k < 3; k++) xi[k] = (q >> k & 1) ? a : -a;
 }
 
+/* cyclic indices give the signed cofactors directly; det by the first row */
+double aug_cofactor3(const double a[3][3], double cof[3][3])
+{
+    for (int r = 0; r < 3; r++)
+        for (int k = 0; k < 3; k++) {
+            int r1 = (r + 1) % 3, r2 = (r + 2) % 3, k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+            cof[r][k] = a[r1][k1] * a[r2][k2] - a[r1][k2] * a[r2][k1];
+        }
+    return a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
+}
+
 /* N, dN/dxi at xi; J[r][k] = dx_r/dxi_k; g = J^-T dN/dxi by the cofactors of J */
 double aug_hex_shape(const aug_mesh *m, int64_t e, const double xi[3], double N[8], double *g)
 {
@@ -29,13 +40,7 @@ double aug_hex_shape(const aug_mesh *m, int64_t e, const double xi[3], double N[
         for (int r = 0; r < 3; r++)
             for (int k = 0; k < 3; k++) J[r][k] += x[r] * dn[a][k];
     }
-    double cof[3][3];
-    for (int r = 0; r < 3; r++)
-        for (int k = 0; k < 3; k++) {
-            int r1 = (r + 1) % 3, r2 = (r + 2) % 3, k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-            cof[r][k] = J[r1][k1] * J[r2][k2] - J[r1][k2] * J[r2][k1];
-        }
-    double det = J[0][0] * cof[0][0] + J[0][1] * cof[0][1] + J[0][2] * cof[0][2];
+    double cof[3][3], det = aug_cofactor3((const double(*)[3])J, cof);
     if (g) /* (J^-1)[k][r] = cof[r][k] / det; dN/dx_r = sum_k dN/dxi_k (J^-1)[k][r] */
         for (int a = 0; a < 8; a++)
             for (int r = 0; r < 3; r++)
