@@ -106,7 +106,8 @@ ASAN_TOOLS := $(TOOLS:bin/%=$(B)/asan/bin/%)
 # Bundled scenes, meshed by gmsh from scenes/*.geo
 SCENES := $(B)/scenes/beam_h4.msh $(B)/scenes/beam_h16.msh $(B)/scenes/beam_h64.msh \
           $(B)/scenes/brick_n4.msh $(B)/scenes/brick_n8.msh $(B)/scenes/square.msh \
-          $(B)/scenes/plank.msh
+          $(B)/scenes/plank.msh $(B)/scenes/cube.msh $(B)/scenes/hexbrick_n2.msh \
+          $(B)/scenes/hexbrick_n4.msh
 $(B)/scenes/beam_h%.msh: scenes/beam.geo
 	@mkdir -p $(dir $@)
 	gmsh -3 -setnumber h $* -format msh41 -v 0 -o $@ $< >/dev/null
@@ -119,6 +120,12 @@ $(B)/scenes/square.msh: scenes/square.geo
 $(B)/scenes/plank.msh: scenes/plank.geo
 	@mkdir -p $(dir $@)
 	gmsh -3 -format msh41 -v 0 -o $@ $< >/dev/null
+$(B)/scenes/cube.msh: scenes/cube.geo
+	@mkdir -p $(dir $@)
+	gmsh -3 -format msh41 -v 0 -o $@ $< >/dev/null
+$(B)/scenes/hexbrick_n%.msh: scenes/hexbrick.geo
+	@mkdir -p $(dir $@)
+	gmsh -3 -setnumber N $* -format msh41 -v 0 -o $@ $< >/dev/null
 scenes: $(SCENES)
 
 check: deps

@@ -156,6 +156,9 @@ void aug_adj_free(aug_adj *a);
 int aug_adj_grow(aug_adj *a, int64_t nn);            /* nodes 0..nn-1 exist */
 int aug_adj_add(aug_adj *a, int32_t node, int32_t elem);
 void aug_adj_remove(aug_adj *a, int32_t node, int32_t elem);
+/* The element across facet f (aug_etype_facet) of element el: the least
+   other element holding all of the facet's nodes, or -1. */
+int32_t aug_adj_across(const aug_mesh *m, const aug_adj *adj, int64_t el, int f);
 
 /* ---- The mesh edit of one step: new nodes, re-wired and added elements ----
    Changes are kept on the side (new nodes and elements) or in place (re-wired
@@ -210,9 +213,9 @@ int aug_separate_node(aug_edit *ed, int32_t p, aug_cutface_fn cut, aug_rank_fn r
 
 /* ---- Element face neighbours (faces shared by two elements) ---- */
 typedef struct aug_facenbr {
-    int nf;                      /* faces per element = nv */
+    int nf;                      /* facets per element (aug_etype_nfacet) */
     int64_t ne, cap;
-    int32_t *nbr;                /* ne*nf: element across face f (face f omits local node f), -1 */
+    int32_t *nbr;                /* ne*nf: element across facet f (aug_adj_across), -1 */
     int32_t *dirty;              /* elements the last update refreshed */
     int64_t ndirty;
     int32_t *mark, *lab, *queue; /* search workspace (cap each), marks by generation */

@@ -8,8 +8,9 @@
 #include "aug_dyn.h"
 #include "aug_mesh.h"
 
-/* Linear elastic element stiffness of element e (tet4: 12x12, tri3 plane
-   stress with thickness t: 6x6), column-major, local dof order node*dim+c. */
+/* Linear elastic element stiffness of element e (hex8 Q1 with 2x2x2 Gauss:
+   24x24, tet4: 12x12, tri3 plane stress with thickness t: 6x6; at most
+   AUG_MAX_EMAT entries), column-major, local dof order node*dim+c. */
 void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke);
 /* Consistent load of the body force rho * m->grav (GRAV) on element e;
    0 (be zeroed) when the mesh has none. */

@@ -5,9 +5,16 @@
 
 #include "aug_stream.h"
 
-/* Element types use gmsh's numbering. */
+/* Element types use gmsh's numbering. One type per mesh. */
 #define AUG_TRI3 2
 #define AUG_TET4 4
+#define AUG_HEX8 5
+
+/* The largest element (hex8): nodes, DOFs (nodes x dim) and element matrix
+   entries; fixed element arrays are sized by these. */
+#define AUG_MAX_NV 8
+#define AUG_MAX_EDOF 24
+#define AUG_MAX_EMAT (AUG_MAX_EDOF * AUG_MAX_EDOF)
 
 #define AUG_NAME 64
 
@@ -27,9 +34,9 @@ typedef struct aug_set {
 enum { AUG_OUT_ALL = 0, AUG_OUT_SURFACE = 1, AUG_OUT_SET = 2 };
 
 typedef struct aug_mesh {
-    int dim;                  /* 2 (tri3, plane stress) or 3 (tet4) */
-    int etype;                /* AUG_TRI3 or AUG_TET4 */
-    int nv;                   /* nodes per element: 3 or 4 */
+    int dim;                  /* 2 (tri3, plane stress) or 3 (tet4, hex8) */
+    int etype;                /* AUG_TRI3, AUG_TET4 or AUG_HEX8 */
+    int nv;                   /* nodes per element: 3, 4 or 8 */
     int64_t nn;               /* nodes */
     double *x;                /* nn*dim coordinates */
     int64_t ne;               /* elements */
@@ -83,17 +90,61 @@ const aug_set *aug_mesh_set(const aug_mesh *m, const char *name);
    constrained. Returns nfree. */
 int64_t aug_dofmap(const aug_mesh *m, int32_t *map);
 
-/* Signed measure of element e: volume (tet4) or area (tri3, in the x-y plane). */
+/* ---- Element types and their facets (lib/mesh/topology.c) ----
+   Facets are the faces of a 3-D element and the edges of a 2-D one: tri3 3
+   edges and tet4 4 triangles (facet f: every local node but f, increasing);
+   hex8 6 quadrilaterals in gmsh's node order (nodes 0-3 the bottom
+   counter-clockwise seen from above, 4-7 above them), each facet's nodes in
+   cyclic order, outward by the right-hand rule. */
+int aug_etype_nv(int etype);          /* 3, 4, 8; 0 for an unknown type */
+int aug_etype_dim(int etype);         /* 2, 3, 3; 0 */
+const char *aug_etype_name(int etype);/* "tri3", "tet4", "hex8"; "?" */
+int aug_etype_nfacet(int etype);      /* 3, 4, 6 */
+int aug_etype_facet_nv(int etype);    /* 2, 3, 4 */
+/* local nodes of facet f (aug_etype_facet_nv of them) */
+const int *aug_etype_facet(int etype, int f);
+/* Elements a and b (connectivities of nv nodes, type etype) share a whole
+   facet of a: its nodes in a's facet order into f (room for 4), count
+   returned; 0 when they share none. */
+int aug_shared_facet(int etype, const int32_t *a, const int32_t *b, int32_t *f);
+
+/* ---- The trilinear hexahedron (lib/mesh/hex8.c) ----
+   Shape functions of hex8 element e at natural coordinates xi in [-1,1]^3:
+   N[a] = (1 + xi xi_a)(1 + eta eta_a)(1 + zeta zeta_a) / 8, (xi_a, eta_a,
+   zeta_a) the corners in gmsh order; g non-NULL: the physical gradients
+   g[a*3+c] = dN_a/dx_c = (J^-T dN_a/dxi)_c with J = dx/dxi = sum_a x_a
+   (dN_a/dxi)'. Returns det J (Hughes, The Finite Element Method, 2000,
+   sec. 3.5-3.8; Zienkiewicz & Taylor vol. 1 ch. 6). */
+double aug_hex_shape(const aug_mesh *m, int64_t e, const double xi[3], double N[8], double *g);
+/* cof = the cofactors of the 3 x 3 a (cof[r][k] = (-1)^(r+k) times the
+   minor of a[r][k]); returns det a, so that (a^-1)[k][r] = cof[r][k] / det */
+double aug_cofactor3(const double a[3][3], double cof[3][3]);
+/* The 2x2x2 Gauss-Legendre rule on [-1,1]^3: point q (0..7) at (+-1/sqrt 3)^3,
+   weight 1 (Hughes sec. 3.8: exact for the volume and the Q1 mass). */
+void aug_hex_gauss(int q, double xi[3]);
+
+/* Signed measure of element e: volume (tet4, hex8) or area (tri3, in the x-y
+   plane). */
 double aug_elem_measure(const aug_mesh *m, int64_t e);
+/* Scaled Jacobian of hex8 element e: the least over its 8 corners of
+   det[e1, e2, e3] / (|e1| |e2| |e3|), e_k the edges from the corner to its
+   three neighbours in right-handed order (1 for a cube, <= 0 at an inverted
+   or degenerate corner; [Knupp 2000], the Verdict library's hex scaled
+   Jacobian); *corner (may be NULL) the local node where it is least. */
+double aug_hex_scaled_jacobian(const aug_mesh *m, int64_t e, int *corner);
 /* Element quality: aspect ratio (longest edge / shortest altitude-free form:
    longest edge over shortest edge for tri3; for tet4 the normalised ratio
    circumradius/(3*inradius), 1 for the regular tet), minimum angle (tri3) or
    minimum dihedral angle (tet4) in degrees. */
+/* hex8: aspect = edge_ratio, min_angle = the least angle between two edges
+   at a corner (90 for a cube), sjac = aug_hex_scaled_jacobian (NAN for tri3
+   and tet4). */
 typedef struct aug_quality {
     double measure;
     double aspect;
     double min_angle;
     double edge_ratio;        /* longest / shortest edge */
+    double sjac;              /* scaled Jacobian (hex8) */
 } aug_quality;
 void aug_elem_quality(const aug_mesh *m, int64_t e, aug_quality *q);
 

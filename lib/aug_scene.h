@@ -16,9 +16,9 @@ typedef struct aug_tagged_group {
     size_t *elem_tags;         /* mesh's dimension: the group is then a material) */
 } aug_tagged_group;
 
-/* A tet4 or tri3 mesh with file tags (gmsh's, unique and positive). */
+/* A tet4, hex8 or tri3 mesh with file tags (gmsh's, unique and positive). */
 typedef struct aug_tagged {
-    int etype;                 /* AUG_TET4 or AUG_TRI3 */
+    int etype;                 /* AUG_TET4, AUG_HEX8 or AUG_TRI3 */
     size_t nnode;
     size_t *node_tags;
     double *xyz;               /* 3 coordinates per node */
@@ -50,7 +50,11 @@ void aug_group_name(const aug_tagged_group *g, char name[AUG_NAME]);
    unless a group has that name. An element of measure <= 0 is an error
    naming its index and tag, unless reorient is set and the measure is
    negative: then its last two nodes are swapped. Degenerate elements
-   (|measure| <= 64 eps l^dim, l its longest edge) are always an error. */
+   (|measure| <= 64 eps l^dim, l its longest edge) are always an error.
+   hex8 (dim 3): a scaled Jacobian (aug_hex_scaled_jacobian) <= 64 eps at a
+   corner is an error naming the element, its tag and the corner, unless
+   reorient is set and the mirrored hex (bottom and top faces exchanged,
+   0123 4567 -> 4567 0123) is valid at every corner. */
 int aug_import(const aug_tagged *t, int reorient, aug_mesh *m, aug_err *e);
 
 /* Node predicates: set mark[i] = 1 for the nodes selected (marks of other

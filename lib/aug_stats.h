@@ -15,14 +15,17 @@
 #define AUG_QHIST 8
 extern const double aug_qhist_aspect[AUG_QHIST + 1]; /* bin edges, last = +inf */
 extern const double aug_qhist_angle[AUG_QHIST + 1];  /* degrees */
+extern const double aug_qhist_sjac[AUG_QHIST + 1];   /* scaled Jacobian (hex8) */
 typedef struct aug_qstats {
     int64_t ne, nbad;
-    double measure;                  /* total volume (tet4) or area (tri3) */
+    double measure;                  /* total volume (tet4, hex8) or area (tri3) */
     double asp_min, asp_mean, asp_max;
-    double ang_min, ang_mean, ang_max; /* min angle (tri3) / min dihedral (tet4), degrees */
+    double ang_min, ang_mean, ang_max; /* min angle (tri3, hex8 corners) / min dihedral (tet4), degrees */
     double edge_ratio_max;
     int64_t asp_hist[AUG_QHIST];
     int64_t ang_hist[AUG_QHIST];
+    double sj_min, sj_mean;          /* hex8: scaled Jacobian (NAN otherwise) */
+    int64_t sj_hist[AUG_QHIST];
 } aug_qstats;
 void aug_mesh_qstats(const aug_mesh *m, aug_qstats *s);
 /* Histogram bin of value v for edges[0..AUG_QHIST] (v below edges[0] goes to bin 0). */
@@ -124,9 +127,10 @@ const aug_mesh *aug_summary_mesh(const aug_summary *s);
 int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned char **mask,
                       aug_err *e);
 
-/* VTK XML UnstructuredGrid (ASCII) of m: points (z = 0 in 2-D), tet (10) or
-   triangle (5) cells, cell data material / material_id / aspect_ratio /
-   min_angle, and when u is given point data displacement (3 components) and
+/* VTK XML UnstructuredGrid (ASCII) of m: points (z = 0 in 2-D), hexahedron
+   (12, VTK's node order = gmsh's), tet (10) or triangle (5) cells, cell data
+   material / material_id / aspect_ratio / min_angle (and scaled_jacobian
+   for hex8), and when u is given point data displacement (3 components) and
    displacement_mask (mask, or all 1 when mask is NULL). */
 int aug_vtk_write(FILE *out, const aug_mesh *m, const double *u, const unsigned char *mask,
                   aug_err *e);

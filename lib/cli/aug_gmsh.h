@@ -5,9 +5,11 @@
 
 #include "../aug_scene.h"
 
-/* Fill t with the tet4 mesh of the file, or its tri3 mesh when it has no
-   volume elements, and every physical group. gmsh runs in a child process
-   (stdout and stderr on /dev/null, its messages kept for e) that sends t back
+/* Fill t with the tet4 or hex8 mesh of the file (one element type per mesh:
+   tetrahedra and hexahedra together are refused), or its tri3 mesh when it
+   has no volume elements, and every physical group (a physical surface of
+   quadrilaterals or triangles is a node set like any other). gmsh runs in a
+   child process (stdout and stderr on /dev/null, its messages kept for e) that sends t back
    through a pipe: a crash of gmsh is the error "gmsh failed to read the file
    (signal N)", and nothing of a reply cut short is used. What gmsh returns is
    checked first: element types of the mesh's dimension (mixed orders in one

@@ -107,10 +107,11 @@ static int check_log(size_t *declared, aug_err *e)
     return rc;
 }
 
-/* the element type of the mesh: tet4 if there are volume elements, else tri3 */
+/* the element type of the mesh: tet4 or hex8 (one of them) if there are
+   volume elements, else tri3 */
 static int mesh_type(int *etype, aug_err *e)
 {
-    int *types = NULL, ierr, top = -1, rc = 0;
+    int *types = NULL, ierr, top = -1, rc = 0, ntet = 0, nhex = 0;
     size_t n = 0;
     char name[AUG_NAME];
     gmshModelMeshGetElementTypes(&types, &n, -1, -1, &ierr);
@@ -120,16 +121,21 @@ static int mesh_type(int *etype, aug_err *e)
         type_info(types[i], &dims[i], name);
         if (dims[i] > top) top = dims[i];
     }
-    *etype = top == 3 ? 4 : 2;
-    if (top < 2) rc = aug_err_set(e, AUG_EDATA, -1, "", "the mesh has no tetrahedra or triangles");
+    for (size_t i = 0; i < n && i < 64; i++)
+        if (dims[i] == 3) ntet += types[i] == AUG_TET4, nhex += types[i] == AUG_HEX8;
+    *etype = top == 3 ? (nhex ? AUG_HEX8 : AUG_TET4) : AUG_TRI3;
+    if (top < 2) rc = aug_err_set(e, AUG_EDATA, -1, "", "the mesh has no tetrahedra, hexahedra or triangles");
     for (size_t i = 0; i < n && i < 64 && !rc; i++)
-        if (dims[i] == top && types[i] != *etype) {
+        if (dims[i] == top && types[i] != *etype && !(top == 3 && types[i] == AUG_TET4)) {
             int d;
             type_info(types[i], &d, name);
             rc = aug_err_set(e, AUG_EDATA, -1, "",
                              "element type %d (%s) is not supported: a %d-D mesh must be all %s",
-                             types[i], name, top, top == 3 ? "tet4" : "tri3");
+                             types[i], name, top, top == 3 ? "tet4 or all hex8" : "tri3");
         }
+    if (!rc && ntet && nhex)
+        rc = aug_err_set(e, AUG_EDATA, -1, "",
+                         "the mesh mixes tetrahedra (tet4) and hexahedra (hex8): one element type per mesh");
     gmshFree(types);
     return rc;
 }
@@ -217,8 +223,8 @@ static int check_orders(int etype, const size_t *et, size_t nelem, aug_err *e)
 {
     size_t all = family_count(etype);
     if (all <= nelem) return 0;
-    int dim = etype == AUG_TET4 ? 3 : 2, type = 0;
-    const char *want = etype == AUG_TET4 ? "tet4" : "tri3";
+    int dim = aug_etype_dim(etype), type = 0;
+    const char *want = aug_etype_name(etype);
     gmshLoggerStop(&(int){0});
     size_t tag = foreign_element(etype, dim, et, nelem, &type);
     if (tag) {
@@ -285,7 +291,7 @@ static int read_group(int dim, int tag, int etype, int topdim, aug_tagged_group 
         size_t *et = NULL, *ct = NULL, net, nct;
         if ((rc = elements_of_type(etype, dim, ent[i], &et, &net, &ct, &nct, e))) break;
         gmshFree(ct);
-        if (nct != net * (etype == AUG_TET4 ? 4 : 3)) {
+        if (nct != net * (size_t)aug_etype_nv(etype)) {
             gmshFree(et);
             rc = gmsh_error(e, "read the elements of a physical group");
             break;
@@ -314,11 +320,11 @@ static int read_model(const char *path, aug_tagged *t, aug_err *e)
     gmshModelMeshGetNodes(&t->node_tags, &t->nnode, &t->xyz, &ncoord, &pc, &npc, -1, -1, 0, 0, &ierr);
     gmshFree(pc);
     if (ierr || ncoord != 3 * t->nnode) return gmsh_error(e, "read the nodes");
-    int topdim = t->etype == AUG_TET4 ? 3 : 2;
+    int topdim = aug_etype_dim(t->etype);
     size_t nconn;
     if ((rc = elements_of_type(t->etype, topdim, -1, &t->elem_tags, &t->nelem, &t->conn_tags, &nconn, e)))
         return rc;
-    if (nconn != t->nelem * (t->etype == AUG_TET4 ? 4 : 3)) return gmsh_error(e, "read the elements");
+    if (nconn != t->nelem * (size_t)aug_etype_nv(t->etype)) return gmsh_error(e, "read the elements");
     if ((rc = check_orders(t->etype, t->elem_tags, t->nelem, e)) || (rc = check_count(declared, e)))
         return rc;
     int *dt = NULL;

@@ -55,7 +55,7 @@ int aug_tagged_send(int fd, int code, const aug_tagged *t, const aug_err *e)
         if (put(fd, &len, sizeof len) || put(fd, e->msg, len)) return -1;
         return put(fd, &end, sizeof end);
     }
-    size_t nv = t->etype == AUG_TET4 ? 4 : 3;
+    size_t nv = (size_t)aug_etype_nv(t->etype);
     if (put_i32(fd, t->etype) || put_array(fd, t->nnode, t->node_tags, sizeof(size_t)) ||
         (t->nnode && put(fd, t->xyz, 3 * t->nnode * sizeof(double))) ||
         put_array(fd, t->nelem, t->elem_tags, sizeof(size_t)) ||
@@ -98,14 +98,14 @@ static int get_i32(int fd, int *v)
 static int get_mesh(int fd, aug_tagged *t)
 {
     void *p;
-    if (get_i32(fd, &t->etype) || (t->etype != AUG_TET4 && t->etype != AUG_TRI3)) return -1;
+    if (get_i32(fd, &t->etype) || !aug_etype_nv(t->etype)) return -1;
     int rc = get_array(fd, &t->nnode, &p);
     t->node_tags = p;
     if (rc || get_items(fd, t->nnode, 3, sizeof(double), &p)) return -1;
     t->xyz = p;
     rc = get_array(fd, &t->nelem, &p);
     t->elem_tags = p;
-    if (rc || get_items(fd, t->nelem, t->etype == AUG_TET4 ? 4 : 3, sizeof(size_t), &p)) return -1;
+    if (rc || get_items(fd, t->nelem, (size_t)aug_etype_nv(t->etype), sizeof(size_t), &p)) return -1;
     t->conn_tags = p;
     int ngroup;
     if (get_i32(fd, &ngroup) || ngroup < 0) return -1;

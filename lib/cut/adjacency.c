@@ -71,3 +71,29 @@ nomem:
     aug_adj_free(a);
     return -1;
 }
+
+/* does element g (of m) hold node v? */
+static int holds(const aug_mesh *m, int32_t g, int32_t v)
+{
+    for (int k = 0; k < m->nv; k++)
+        if (m->conn[(int64_t)g * m->nv + k] == v) return 1;
+    return 0;
+}
+
+/* the least element other than el holding every node of facet f of el: a
+   search of the list of the facet's first node */
+int32_t aug_adj_across(const aug_mesh *m, const aug_adj *adj, int64_t el, int f)
+{
+    const int *l = aug_etype_facet(m->etype, f);
+    int fv = aug_etype_facet_nv(m->etype);
+    const int32_t *c = m->conn + el * m->nv;
+    int32_t v0 = c[l[0]], best = -1;
+    for (int32_t i = 0; i < adj->cnt[v0]; i++) {
+        int32_t g = adj->list[v0][i];
+        if (g == el || (best >= 0 && g >= best)) continue;
+        int ok = 1;
+        for (int k = 1; k < fv && ok; k++) ok = holds(m, g, c[l[k]]);
+        if (ok) best = g;
+    }
+    return best;
+}

@@ -51,9 +51,9 @@ cholmod_sparse *aug_assemble_cut(const aug_mesh *m, int64_t nn0, const int32_t *
     int64_t n = aug_cut_order(m, nn0, nfree0);
     int64_t cap = m->ne * (int64_t)nd * (nd + 1) / 2 + n, nt = 0;
     trip *t = aug_malloc((size_t)cap * sizeof *t);
-    double Ke[144], val[12];
-    int64_t gi[12];
-    int con[12];
+    double Ke[AUG_MAX_EMAT], val[AUG_MAX_EDOF];
+    int64_t gi[AUG_MAX_EDOF];
+    int con[AUG_MAX_EDOF];
     cholmod_sparse *A = NULL;
     if (!t) goto nomem;
     for (int64_t el = 0; el < m->ne; el++) {
@@ -118,9 +118,9 @@ int aug_load_cut(const aug_mesh *m, int64_t nn0, const int32_t *map0, int64_t nf
     aug_err_clear(e);
     int nd = m->nv * m->dim;
     int64_t n = aug_cut_order(m, nn0, nfree0);
-    double Ke[144], val[12];
-    int64_t gi[12];
-    int con[12];
+    double Ke[AUG_MAX_EMAT], val[AUG_MAX_EDOF];
+    int64_t gi[AUG_MAX_EDOF];
+    int con[AUG_MAX_EDOF];
     memset(f, 0, (size_t)n * sizeof *f);
     for (int64_t k = 0; k < m->nload; k++) {
         int32_t dof = m->load_dof[k];

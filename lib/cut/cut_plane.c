@@ -21,27 +21,6 @@ static double dot(const double *a, const double *b, int dim)
     return s;
 }
 
-/* element across face f (all nodes of el but local f) of el, least index, or -1 */
-static int32_t across(const aug_mesh *m, const aug_adj *adj, int64_t el, int f)
-{
-    int nv = m->nv;
-    const int32_t *c = m->conn + el * nv;
-    int32_t v0 = c[f == 0 ? 1 : 0], best = -1;
-    for (int32_t i = 0; i < adj->cnt[v0]; i++) {
-        int32_t g = adj->list[v0][i];
-        if (g == el || (best >= 0 && g >= best)) continue;
-        int ok = 1;
-        for (int k = 0; k < nv && ok; k++) {
-            if (k == f) continue;
-            int in = 0;
-            for (int j = 0; j < nv; j++) in |= m->conn[(int64_t)g * nv + j] == c[k];
-            ok = in;
-        }
-        if (ok) best = g;
-    }
-    return best;
-}
-
 typedef struct keyed {
     int64_t key;
     int32_t node;
@@ -75,7 +54,7 @@ int aug_plane_plan(aug_plane_cut *pc, const aug_mesh *m, const aug_adj *adj, con
 {
     aug_err_clear(e);
     memset(pc, 0, sizeof *pc);
-    int dim = m->dim, nv = m->nv;
+    int dim = m->dim, nv = m->nv, nfc = aug_etype_nfacet(m->etype), fv = aug_etype_facet_nv(m->etype);
     double len = sqrt(dot(n, n, dim));
     if (!(len > 0))
         return aug_err_set(e, AUG_EUSAGE, -1, "", "the plane normal is zero");
@@ -97,12 +76,12 @@ int aug_plane_plan(aug_plane_cut *pc, const aug_mesh *m, const aug_adj *adj, con
     }
     for (int64_t el = 0; el < m->ne; el++) {
         if (!pc->side[el]) continue;
-        for (int f = 0; f < nv; f++) {
-            int32_t g = across(m, adj, el, f);
+        for (int f = 0; f < nfc; f++) {
+            int32_t g = aug_adj_across(m, adj, el, f);
             if (g < 0 || pc->side[g]) continue;
             pc->nface++;
-            for (int k = 0; k < nv; k++)
-                if (k != f) mark[m->conn[el * nv + k]] = 1;
+            const int *l = aug_etype_facet(m->etype, f);
+            for (int k = 0; k < fv; k++) mark[m->conn[el * nv + l[k]]] = 1;
         }
     }
     if (nplus == 0 || nplus == m->ne || pc->nface == 0) {
@@ -231,7 +210,7 @@ int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg,
                    aug_err *e)
 {
     aug_err_clear(e);
-    int dim = pc->dim, nv = ed->m->nv;
+    int dim = pc->dim;
     int64_t cap = *nseg;
     aug_edgemap done = {0};
     if (pc->next >= pc->ncut)
@@ -247,13 +226,11 @@ int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg,
                 if (ea >= pc->ne || eb >= pc->ne || !pc->side[ea] || pc->side[eb]) continue;
                 const int32_t *ca = aug_edit_conn(ed, ea), *cb = aug_edit_conn(ed, eb);
                 int32_t f[4];
-                int nf = 0;
-                for (int x = 0; x < nv; x++)
-                    for (int y = 0; y < nv; y++)
-                        if (ca[x] == cb[y]) f[nf++] = ca[x];
-                if (nf != nv - 1) continue;
+                int nf = aug_shared_facet(ed->m->etype, ca, cb, f);
+                /* the facet's edges: every pair of a simplex facet, the sides of a quadrilateral */
                 for (int x = 0; x < nf; x++)
                     for (int y = x + 1; y < nf; y++) {
+                        if (nf == 4 && y != x + 1 && !(x == 0 && y == 3)) continue;
                         if (aug_edgemap_get(&done, f[x], f[y])) continue;
                         if (!aug_edgemap_put(&done, f[x], f[y]) ||
                             push_seg(seg, nseg, &cap, aug_edit_x(ed, f[x]), aug_edit_x(ed, f[y]), dim))

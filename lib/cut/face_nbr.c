@@ -14,36 +14,9 @@ void aug_facenbr_free(aug_facenbr *f)
     memset(f, 0, sizeof *f);
 }
 
-/* does element g contain node v? */
-static int has(const aug_mesh *m, int32_t g, int32_t v)
-{
-    for (int k = 0; k < m->nv; k++)
-        if (m->conn[(int64_t)g * m->nv + k] == v) return 1;
-    return 0;
-}
-
-/* element other than el holding face f of el (every node of el but local f), or -1 */
-static int32_t across(const aug_mesh *m, const aug_adj *adj, int32_t el, int f)
-{
-    int nv = m->nv;
-    const int32_t *c = m->conn + (int64_t)el * nv;
-    int32_t v0 = c[f == 0 ? 1 : 0];
-    const int32_t *l = adj->list[v0];
-    int32_t best = -1;
-    for (int32_t i = 0; i < adj->cnt[v0]; i++) {
-        int32_t g = l[i];
-        if (g == el || (best >= 0 && g >= best)) continue;
-        int ok = 1;
-        for (int k = 0; k < nv && ok; k++)
-            if (k != f) ok = has(m, g, c[k]);
-        if (ok) best = g;
-    }
-    return best;
-}
-
 static void refresh(aug_facenbr *fn, const aug_mesh *m, const aug_adj *adj, int32_t el)
 {
-    for (int f = 0; f < fn->nf; f++) fn->nbr[(int64_t)el * fn->nf + f] = across(m, adj, el, f);
+    for (int f = 0; f < fn->nf; f++) fn->nbr[(int64_t)el * fn->nf + f] = aug_adj_across(m, adj, el, f);
 }
 
 static int reserve(aug_facenbr *fn, int64_t ne)
@@ -123,7 +96,7 @@ int aug_facenbr_local_connected(aug_facenbr *fn, int64_t budget)
 int aug_facenbr_build(aug_facenbr *fn, const aug_mesh *m, const aug_adj *adj)
 {
     memset(fn, 0, sizeof *fn);
-    fn->nf = m->nv;
+    fn->nf = aug_etype_nfacet(m->etype);
     if (reserve(fn, m->ne)) return -1;
     fn->ne = m->ne;
     for (int64_t el = 0; el < m->ne; el++) refresh(fn, m, adj, (int32_t)el);

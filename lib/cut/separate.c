@@ -9,13 +9,10 @@ static int32_t root(int32_t *up, int32_t i)
     return i;
 }
 
-/* common nodes of elements a and b (sorted into f); their count */
-static int common(const int32_t *ca, const int32_t *cb, int nv, int32_t *f)
+/* the nodes of the facet elements a and b share (sorted into f), 0 if none */
+static int common(int etype, const int32_t *ca, const int32_t *cb, int32_t *f)
 {
-    int n = 0;
-    for (int i = 0; i < nv; i++)
-        for (int j = 0; j < nv; j++)
-            if (ca[i] == cb[j]) f[n++] = ca[i];
+    int n = aug_shared_facet(etype, ca, cb, f);
     for (int i = 1; i < n; i++)
         for (int j = i; j > 0 && f[j - 1] > f[j]; j--) {
             int32_t t = f[j];
@@ -25,8 +22,8 @@ static int common(const int32_t *ca, const int32_t *cb, int nv, int32_t *f)
     return n;
 }
 
-/* Star(p) = elements containing p; a ~ b when they share a face (nv-1 nodes,
-   p among them) that cut() does not report. Each class but the one holding
+/* Star(p) = elements containing p; a ~ b when they share a facet (p among
+   its nodes: aug_shared_facet) that cut() does not report. Each class but the one holding
    the least-ranked element is re-wired to a new copy of p (AMPS sec. 4.3.2:
    "a copy of each node along the cut path was added to the mesh"). */
 int aug_separate_node(aug_edit *ed, int32_t p, aug_cutface_fn cut, aug_rank_fn rank, void *ctx,
@@ -52,8 +49,8 @@ int aug_separate_node(aug_edit *ed, int32_t p, aug_cutface_fn cut, aug_rank_fn r
     for (int32_t i = 0; i < s; i++)
         for (int32_t j = i + 1; j < s; j++) {
             int32_t f[4];
-            int nf = common(aug_edit_conn(ed, star[i]), aug_edit_conn(ed, star[j]), nv, f);
-            if (nf != nv - 1) continue;
+            int nf = common(ed->m->etype, aug_edit_conn(ed, star[i]), aug_edit_conn(ed, star[j]), f);
+            if (!nf) continue;
             if (cut && cut(ctx, ed, star[i], star[j], f, nf)) continue;
             int32_t a = root(up, i), b = root(up, j);
             if (a != b) up[a < b ? b : a] = a < b ? a : b;
@@ -79,7 +76,7 @@ int aug_separate_node(aug_edit *ed, int32_t p, aug_cutface_fn cut, aug_rank_fn r
         if (q < 0) goto nomem;
         for (int32_t i = 0; i < s; i++) {
             if (root(up, i) != order[c]) continue;
-            int32_t conn[4];
+            int32_t conn[AUG_MAX_NV];
             memcpy(conn, aug_edit_conn(ed, star[i]), (size_t)nv * sizeof *conn);
             for (int k = 0; k < nv; k++)
                 if (conn[k] == p) conn[k] = q;

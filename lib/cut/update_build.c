@@ -78,8 +78,8 @@ static void element(const aug_mesh *A, const int32_t *conn, int32_t mat, double 
                     int lumped, double *be)
 {
     aug_mesh t;
-    double x[12];
-    int32_t c[4] = {0, 1, 2, 3}, mt = mat;
+    double x[AUG_MAX_EDOF];
+    int32_t c[AUG_MAX_NV] = {0, 1, 2, 3, 4, 5, 6, 7}, mt = mat;
     memset(&t, 0, sizeof t);
     for (int a = 0; a < A->nv; a++)
         for (int k = 0; k < A->dim; k++) x[a * A->dim + k] = A->x[conn[a] * A->dim + k];
@@ -244,9 +244,9 @@ static void add_element(ubuild *b, double *E, const int32_t *cc, int now, const 
                         double sign, double *lift)
 {
     int dim = b->dim, nd = b->nd;
-    int64_t pos[12], s = b->s;
-    int fr[12];
-    double val[12];
+    int64_t pos[AUG_MAX_EDOF], s = b->s;
+    int fr[AUG_MAX_EDOF];
+    double val[AUG_MAX_EDOF];
     for (int a = 0; a < b->nv; a++)
         for (int c = 0; c < dim; c++) {
             int l = a * dim + c;
@@ -292,7 +292,7 @@ static void add_matrices(ubuild *b, const int32_t *cc, int now, const double *K,
         add_element(b, b->E, cc, now, K, sign, lift);
         return;
     }
-    double Ae[144];
+    double Ae[AUG_MAX_EMAT];
     for (int i = 0; i < b->nd * b->nd; i++) Ae[i] = b->dyn->cM * M[i] + b->dyn->cK * K[i];
     add_element(b, b->E, cc, now, Ae, sign, NULL);
     add_element(b, b->EK, cc, now, K, sign, lift);
@@ -309,7 +309,8 @@ static void stiffness_change(ubuild *b)
     for (int64_t q = 0; q < b->nel; q++) {
         int32_t i = b->el[q];
         const int32_t *oc = old_conn(b, i), *nc = A->conn + (int64_t)i * b->nv;
-        double Ko[144], Kn[144], Mo[144], Mn[144], bo[12], bn[12];
+        double Ko[AUG_MAX_EMAT], Kn[AUG_MAX_EMAT], Mo[AUG_MAX_EMAT], Mn[AUG_MAX_EMAT];
+        double bo[AUG_MAX_EDOF], bn[AUG_MAX_EDOF];
         double *mo = b->dyn ? Mo : NULL, *mn = b->dyn ? Mn : NULL;
         if (oc) {
             element(A, oc, A->mat[i], Ko, mo, lumped, bo);

@@ -96,8 +96,9 @@ static int64_t find_node(const int32_t *ind, int64_t lo, int64_t hi, int32_t k)
     return lo;
 }
 
-/* Lumped mass: diagonal, M(f,f) = sum over the elements at f of rho w / nv (the
-   row sums of elem_mass.c), over the free DOFs f. */
+/* Lumped mass: diagonal, M(f,f) = sum over the elements at f of the row sums
+   of their consistent mass (elem_mass.c: rho w / nv for simplices), over the
+   free DOFs f. */
 static cholmod_sparse *assemble_lumped(const aug_mesh *m, const int32_t *map, int64_t nfree,
                                        cholmod_common *cm, aug_err *e)
 {
@@ -108,7 +109,7 @@ static cholmod_sparse *assemble_lumped(const aug_mesh *m, const int32_t *map, in
         return NULL;
     }
     int *Ap = A->p, *Ai = A->i;
-    double *Ax = A->x, Me[144];
+    double *Ax = A->x, Me[AUG_MAX_EMAT];
     for (int64_t j = 0; j <= nfree; j++) Ap[j] = (int)j;
     for (int64_t j = 0; j < nfree; j++) Ai[j] = (int)j, Ax[j] = 0;
     int d = m->dim, nv = m->nv, n = d * nv;
@@ -186,8 +187,8 @@ cholmod_sparse *aug_assemble(const aug_mesh *m, const int32_t *map, int64_t nfre
     Ap[nfree] = (int)pos;
     memset(Ax, 0, (size_t)nnz * sizeof *Ax);
     /* numeric: element order, so the summation order is fixed */
-    double Ke[144];
-    int32_t lidx[12];
+    double Ke[AUG_MAX_EMAT];
+    int32_t lidx[AUG_MAX_EDOF];
     for (int64_t el = 0; el < m->ne; el++) {
         const int32_t *cn = m->conn + el * nv;
         if (which == AUG_MAT_K) aug_elem_stiffness(m, el, Ke);

@@ -1,5 +1,6 @@
-/* Linear-elastic element stiffness: tet4 (3-D isotropic) and tri3 (plane stress)
-   ([Zienkiewicz]; thesis 003 eqs. 2.19-2.20 give its node-block form). */
+/* Linear-elastic element stiffness: tet4 and hex8 (3-D isotropic) and tri3
+   (plane stress) ([Zienkiewicz]; Hughes, The Finite Element Method, ch. 3;
+   thesis 003 eqs. 2.19-2.20 give its node-block form). */
 #include <string.h>
 #include "aug_fem.h"
 
@@ -15,13 +16,7 @@ static double tet_grad(const aug_mesh *m, int64_t e, double g[12])
         const double *p = m->x + (size_t)c[k + 1] * 3;
         for (int r = 0; r < 3; r++) a[r][k] = p[r] - p0[r];
     }
-    double cof[3][3];
-    for (int r = 0; r < 3; r++)
-        for (int k = 0; k < 3; k++) {
-            int r1 = (r + 1) % 3, r2 = (r + 2) % 3, k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-            cof[r][k] = a[r1][k1] * a[r2][k2] - a[r1][k2] * a[r2][k1];
-        }
-    double det = a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
+    double cof[3][3], det = aug_cofactor3((const double(*)[3])a, cof);
     /* (J^-1)[k][r] = cof[r][k] / det: grad N_{k+1} = row k of J^-1 */
     for (int c0 = 0; c0 < 3; c0++) g[c0] = 0;
     for (int k = 0; k < 3; k++)
@@ -49,24 +44,11 @@ static double tri_grad(const aug_mesh *m, int64_t e, double g[6])
     return det;
 }
 
-/* Ke = V B' D B (tet4), with D the isotropic elasticity matrix of (E, nu):
-   lambda = E nu / ((1+nu)(1-2nu)), mu = E / (2(1+nu)); written out as
-   Ke[(a,i),(b,j)] = V (lambda g_a,i g_b,j + mu g_a,j g_b,i + mu delta_ij g_a.g_b).
-   Ke = t A B' D B (tri3 plane stress), D = E/(1-nu^2) [1 nu 0; nu 1 0; 0 0 (1-nu)/2],
-   the same form with lambda* = E nu / (1-nu^2), mu = E / (2(1+nu)) ([Zienkiewicz]).
-   V = det J / 6 and A = det / 2 are signed: an inverted element gives -Ke. */
-void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke)
+/* Ke += w B' D B at one point with shape gradients g (nv nodes, d dims):
+   Ke[(a,i),(b,j)] += w (lambda g_a,i g_b,j + mu g_a,j g_b,i + mu delta_ij g_a.g_b) */
+static void add_bdb(double *Ke, const double *g, int nv, int d, double lam, double mu, double w)
 {
-    const aug_material *mat = &m->mats[m->mat[e]];
-    double E = mat->E, nu = mat->nu, mu = E / (2 * (1 + nu)), lam, w, g[12];
-    int d = m->dim, nv = m->nv, n = d * nv;
-    if (d == 3) {
-        lam = E * nu / ((1 + nu) * (1 - 2 * nu));
-        w = tet_grad(m, e, g) / 6.0;
-    } else {
-        lam = E * nu / (1 - nu * nu);
-        w = mat->t * tri_grad(m, e, g) / 2.0;
-    }
+    int n = d * nv;
     for (int a = 0; a < nv; a++)
         for (int b = 0; b < nv; b++) {
             const double *ga = g + a * d, *gb = g + b * d;
@@ -76,7 +58,43 @@ void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke)
                 for (int j = 0; j < d; j++) {
                     double v = lam * ga[i] * gb[j] + mu * ga[j] * gb[i];
                     if (i == j) v += mu * gg;
-                    Ke[(size_t)(b * d + j) * n + (a * d + i)] = w * v;
+                    Ke[(size_t)(b * d + j) * n + (a * d + i)] += w * v;
                 }
         }
+}
+
+/* Ke = V B' D B (tet4), with D the isotropic elasticity matrix of (E, nu):
+   lambda = E nu / ((1+nu)(1-2nu)), mu = E / (2(1+nu)); written out as
+   Ke[(a,i),(b,j)] = V (lambda g_a,i g_b,j + mu g_a,j g_b,i + mu delta_ij g_a.g_b).
+   Ke = t A B' D B (tri3 plane stress), D = E/(1-nu^2) [1 nu 0; nu 1 0; 0 0 (1-nu)/2],
+   the same form with lambda* = E nu / (1-nu^2), mu = E / (2(1+nu)) ([Zienkiewicz]).
+   V = det J / 6 and A = det / 2 are signed: an inverted element gives -Ke.
+   hex8 (Q1, trilinear): Ke = sum_q det J(xi_q) B(xi_q)' D B(xi_q) over the
+   2x2x2 Gauss points (full integration; Hughes, The Finite Element Method,
+   sec. 3.5-3.8, aug_hex_shape and aug_hex_gauss), 24 x 24. */
+void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke)
+{
+    const aug_material *mat = &m->mats[m->mat[e]];
+    double E = mat->E, nu = mat->nu, mu = E / (2 * (1 + nu)), lam, g[AUG_MAX_EDOF];
+    int d = m->dim, nv = m->nv, n = d * nv;
+    memset(Ke, 0, sizeof(double) * (size_t)n * n);
+    if (nv == 8) {
+        double xi[3], N[8];
+        lam = E * nu / ((1 + nu) * (1 - 2 * nu));
+        for (int q = 0; q < 8; q++) {
+            aug_hex_gauss(q, xi);
+            double w = aug_hex_shape(m, e, xi, N, g);
+            add_bdb(Ke, g, nv, d, lam, mu, w);
+        }
+        return;
+    }
+    double w;
+    if (d == 3) {
+        lam = E * nu / ((1 + nu) * (1 - 2 * nu));
+        w = tet_grad(m, e, g) / 6.0;
+    } else {
+        lam = E * nu / (1 - nu * nu);
+        w = mat->t * tri_grad(m, e, g) / 2.0;
+    }
+    add_bdb(Ke, g, nv, d, lam, mu, w);
 }

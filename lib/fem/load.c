@@ -19,7 +19,7 @@ int aug_load_vector(const aug_mesh *m, const int32_t *map, int64_t nfree, double
         int32_t q = map[m->load_dof[t]];
         if (q >= 0) f[q] += m->load_val[t];
     }
-    double be[12];
+    double be[AUG_MAX_EDOF];
     for (int64_t el = 0; el < m->ne && aug_elem_body(m, el, be); el++)
         for (int k = 0; k < n; k++) {
             int32_t q = map[(int64_t)m->conn[el * nv + k / d] * d + k % d];
@@ -37,7 +37,7 @@ int aug_load_vector(const aug_mesh *m, const int32_t *map, int64_t nfree, double
         free(a);
         return 0;
     }
-    double Ke[144];
+    double Ke[AUG_MAX_EMAT];
     for (int64_t el = 0; el < m->ne; el++) {
         const int32_t *cn = m->conn + el * nv;
         int need = 0;

@@ -41,8 +41,8 @@ void aug_reactions(const aug_mesh *m, const int32_t *elems, int64_t nel, const d
                    const aug_react_dyn *dyn, double *r)
 {
     int d = m->dim, nd = m->nv * d;
-    double Ke[144], Me[144], w[12], z[12], be[12];
-    int64_t pos[12];
+    double Ke[AUG_MAX_EMAT], Me[AUG_MAX_EMAT], w[AUG_MAX_EDOF], z[AUG_MAX_EDOF], be[AUG_MAX_EDOF];
+    int64_t pos[AUG_MAX_EDOF];
     memset(r, 0, (size_t)m->nfix * sizeof *r);
     for (int64_t t = 0; t < nel; t++) {
         const int32_t *c = m->conn + (int64_t)elems[t] * m->nv;

@@ -211,11 +211,44 @@ static int import_materials(const aug_tagged *t, work *w, aug_mesh *m, aug_err *
     return 0;
 }
 
+/* hex8: refuse a hex whose scaled Jacobian is <= 0 at a corner; with
+   reorient, one negative at every corner (a mirrored hex) is flipped by
+   exchanging its bottom and top faces (0123 4567 -> 4567 0123) */
+static int hex_orientation(int reorient, work *w, aug_mesh *m, int64_t k, aug_err *e)
+{
+    int32_t *c = m->conn + k * 8;
+    int corner;
+    double sj = aug_hex_scaled_jacobian(m, k, &corner);
+    if (sj > 64 * DBL_EPSILON) return 0;
+    if (reorient) {
+        for (int a = 0; a < 4; a++) {
+            int32_t t = c[a];
+            c[a] = c[a + 4];
+            c[a + 4] = t;
+        }
+        int at;
+        double flipped = aug_hex_scaled_jacobian(m, k, &at);
+        if (flipped > 64 * DBL_EPSILON) return 0;
+        for (int a = 0; a < 4; a++) {
+            int32_t t = c[a];
+            c[a] = c[a + 4];
+            c[a + 4] = t;
+        }
+    }
+    return ERR(AUG_EDATA, "element %lld (gmsh tag %zu) is inverted or degenerate (scaled Jacobian %.6g at corner %d)%s",
+               (long long)k, w->elems[k].tag, sj, corner,
+               reorient ? ": mirroring it does not help" : "");
+}
+
 /* refuse inverted (or, with reorient, flip them) and degenerate elements */
 static int import_orientation(int reorient, work *w, aug_mesh *m, aug_err *e)
 {
     int nv = m->nv, dim = m->dim;
     for (int64_t k = 0; k < m->ne; k++) {
+        if (nv == 8) {
+            if (hex_orientation(reorient, w, m, k, e)) return e->code;
+            continue;
+        }
         int32_t *c = m->conn + k * nv;
         double l = 0;
         for (int i = 0; i < nv; i++)
@@ -292,14 +325,14 @@ int aug_import(const aug_tagged *t, int reorient, aug_mesh *m, aug_err *e)
 {
     aug_err_clear(e);
     aug_mesh_init(m);
-    if (t->etype != AUG_TET4 && t->etype != AUG_TRI3)
-        return ERR(AUG_EUSAGE, "element type %d is neither tet4 nor tri3", t->etype);
+    if (!aug_etype_nv(t->etype))
+        return ERR(AUG_EUSAGE, "element type %d is not tet4, hex8 or tri3", t->etype);
     if (t->nelem == 0) return ERR(AUG_EDATA, "the mesh has no elements");
     if (t->nelem > INT32_MAX || t->nnode > INT32_MAX)
         return ERR(AUG_EDATA, "the mesh is too large (%zu nodes, %zu elements)", t->nnode, t->nelem);
     m->etype = t->etype;
-    m->nv = t->etype == AUG_TET4 ? 4 : 3;
-    m->dim = t->etype == AUG_TET4 ? 3 : 2;
+    m->nv = aug_etype_nv(t->etype);
+    m->dim = aug_etype_dim(t->etype);
     work w;
     memset(&w, 0, sizeof w);
     int rc = import_nodes(t, &w, m, e);

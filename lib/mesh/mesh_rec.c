@@ -75,7 +75,7 @@ static int absorb_elem(aug_mesh *m, const aug_rec *rec, aug_err *e)
     aug_cur_init(&c, rec);
     int32_t et = aug_cur_i32(&c), nv = aug_cur_i32(&c);
     int64_t ne = aug_cur_i64(&c);
-    if (!((et == AUG_TET4 && nv == 4 && m->dim == 3) || (et == AUG_TRI3 && nv == 3 && m->dim == 2)))
+    if (!aug_etype_nv(et) || nv != aug_etype_nv(et) || m->dim != aug_etype_dim(et))
         return BAD("element type %d with %d nodes in dimension %d is not supported", (int)et,
                    (int)nv, m->dim);
     if (ne < 0 || ne > INT32_MAX || !aug_cur_has(&c, (uint64_t)ne, 4 * (nv + 1)) ||
@@ -102,6 +102,14 @@ static int absorb_elem(aug_mesh *m, const aug_rec *rec, aug_err *e)
         if (m->mat[i] < 0 || m->mat[i] >= m->nmat)
             return DATA("element %lld has material %d of %d", (long long)i, (int)m->mat[i],
                         m->nmat);
+        int corner;
+        if (et == AUG_HEX8) {
+            double sj = aug_hex_scaled_jacobian(m, i, &corner);
+            if (!(sj > 0))
+                return DATA("element %lld is inverted or degenerate (scaled Jacobian %.6g at corner %d)",
+                            (long long)i, sj, corner);
+            continue;
+        }
         double v = aug_elem_measure(m, i);
         if (!(v > 0))
             return DATA("element %lld is inverted or degenerate (%s %.6g)", (long long)i,
@@ -320,7 +328,7 @@ static int check_alone(const aug_rec *rec, aug_err *e)
     if (!memcmp(t, "ELEM", 4)) {
         int32_t et = aug_cur_i32(&c), nv = aug_cur_i32(&c);
         int64_t ne = aug_cur_i64(&c);
-        if (!((et == AUG_TET4 && nv == 4) || (et == AUG_TRI3 && nv == 3)))
+        if (!aug_etype_nv(et) || nv != aug_etype_nv(et))
             return BAD("element type %d with %d nodes is not supported", (int)et, (int)nv);
         if (ne < 0 || ne > INT32_MAX || !aug_cur_has(&c, (uint64_t)ne, 4 * (nv + 1)) ||
             c.len - c.pos != (uint64_t)ne * 4 * (nv + 1))

@@ -1,5 +1,5 @@
 /* Element measure and quality (volume/area, aspect ratio: thesis 003 eq. 3.10 and
-   [Shewchuk 2002], angles) and boundary detection. */
+   [Shewchuk 2002], angles, the hex scaled Jacobian) and boundary detection. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,9 +24,19 @@ static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1]
 static double norm3(const double *a) { return sqrt(dot3(a, a)); }
 
 /* V = det[p1-p0, p2-p0, p3-p0] / 6 (tet4);  A = det[p1-p0, p2-p0] / 2 (tri3);
-   signed (positive for a positively oriented element) */
+   V = sum of det J over the 2x2x2 Gauss points (hex8: exact, det J being of
+   degree 2 in each natural coordinate); signed (positive for a positively
+   oriented element) */
 double aug_elem_measure(const aug_mesh *m, int64_t e)
 {
+    if (m->nv == 8) {
+        double v = 0, xi[3], N[8];
+        for (int q = 0; q < 8; q++) {
+            aug_hex_gauss(q, xi);
+            v += aug_hex_shape(m, e, xi, N, NULL);
+        }
+        return v;
+    }
     if (m->nv == 4) {
         double a[3], b[3], c[3], n[3];
         sub3(P(m, e, 1), P(m, e, 0), a);
@@ -116,18 +126,49 @@ static void tet_quality(const aug_mesh *m, int64_t e, aug_quality *q)
     q->min_angle = dmin;
 }
 
+/* hex8: the 12 edges (each corner's three neighbours), aspect = edge_ratio =
+   l_max / l_min, min_angle = the least angle between two edges at a corner
+   (degrees), sjac = aug_hex_scaled_jacobian */
+static void hex_quality(const aug_mesh *m, int64_t e, aug_quality *q)
+{
+    static const int nb[8][3] = {{1, 3, 4}, {0, 2, 5}, {1, 3, 6}, {0, 2, 7},
+                                 {0, 5, 7}, {1, 4, 6}, {2, 5, 7}, {3, 4, 6}};
+    double emin = INFINITY, emax = 0, amin = 180;
+    for (int a = 0; a < 8; a++) {
+        double v[3][3], L[3];
+        for (int k = 0; k < 3; k++) {
+            sub3(P(m, e, nb[a][k]), P(m, e, a), v[k]);
+            L[k] = norm3(v[k]);
+            emin = fmin(emin, L[k]);
+            emax = fmax(emax, L[k]);
+        }
+        for (int i = 0; i < 3; i++)
+            for (int j = i + 1; j < 3; j++) {
+                double cs = dot3(v[i], v[j]) / (L[i] * L[j]);
+                amin = fmin(amin, acos(fmax(-1, fmin(1, cs))) * 180 / M_PI);
+            }
+    }
+    q->measure = aug_elem_measure(m, e);
+    q->edge_ratio = emax / emin;
+    q->aspect = q->edge_ratio;
+    q->min_angle = amin;
+    q->sjac = aug_hex_scaled_jacobian(m, e, NULL);
+}
+
 /* measure, aspect, edge ratio and least (dihedral) angle of element e:
-   tet_quality (nv = 4) or tri_quality */
+   hex_quality (nv = 8), tet_quality (nv = 4) or tri_quality */
 void aug_elem_quality(const aug_mesh *m, int64_t e, aug_quality *q)
 {
-    if (m->nv == 4) tet_quality(m, e, q);
+    q->sjac = NAN;
+    if (m->nv == 8) hex_quality(m, e, q);
+    else if (m->nv == 4) tet_quality(m, e, q);
     else tri_quality(m, e, q);
 }
 
 static int cmp_face(const void *a, const void *b)
 {
     const int32_t *x = a, *y = b;
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < 4; i++)
         if (x[i] != y[i]) return x[i] < y[i] ? -1 : 1;
     return 0;
 }
@@ -142,29 +183,28 @@ static void sort_small(int32_t *v, int n)
         }
 }
 
-/* a facet (tet face / triangle edge) used by exactly one element is boundary */
+/* a facet (aug_etype_facet: face of a 3-D element, edge of a 2-D one) used by
+   exactly one element is boundary */
 int64_t aug_mesh_boundary_nodes(const aug_mesh *m, unsigned char *mark)
 {
-    int nf = m->nv, fv = m->nv - 1;
-    int32_t *F = aug_malloc((size_t)(m->ne * nf) * 3 * sizeof(int32_t));
+    int nf = aug_etype_nfacet(m->etype), fv = aug_etype_facet_nv(m->etype);
+    int32_t *F = aug_malloc((size_t)(m->ne * nf) * 4 * sizeof(int32_t) + 1);
     if (!F) return -1;
     for (int64_t e = 0; e < m->ne; e++)
         for (int f = 0; f < nf; f++) {
-            int32_t *t = F + (e * nf + f) * 3;
-            int k = 0;
-            for (int j = 0; j < m->nv; j++)
-                if (j != f) t[k++] = m->conn[e * m->nv + j];
-            if (fv == 2) t[2] = -1;
+            int32_t *t = F + (e * nf + f) * 4;
+            const int *l = aug_etype_facet(m->etype, f);
+            for (int k = 0; k < 4; k++) t[k] = k < fv ? m->conn[e * m->nv + l[k]] : -1;
             sort_small(t, fv);
         }
     int64_t nt = m->ne * nf;
-    qsort(F, (size_t)nt, 3 * sizeof(int32_t), cmp_face);
+    qsort(F, (size_t)nt, 4 * sizeof(int32_t), cmp_face);
     memset(mark, 0, (size_t)m->nn);
     for (int64_t i = 0; i < nt;) {
         int64_t j = i + 1;
-        while (j < nt && cmp_face(F + 3 * i, F + 3 * j) == 0) j++;
+        while (j < nt && cmp_face(F + 4 * i, F + 4 * j) == 0) j++;
         if (j - i == 1)
-            for (int k = 0; k < fv; k++) mark[F[3 * i + k]] = 1;
+            for (int k = 0; k < fv; k++) mark[F[4 * i + k]] = 1;
         i = j;
     }
     free(F);

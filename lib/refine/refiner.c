@@ -59,7 +59,8 @@ int aug_refiner_init(aug_refiner *r, const aug_mesh *m, const aug_refine_opt *o,
     if (o) r->opt = *o;
     else aug_refine_opt_default(&r->opt);
     if (!((m->dim == 2 && m->nv == 3) || (m->dim == 3 && m->nv == 4)))
-        return aug_err_set(e, AUG_EDATA, -1, "ELEM", "refine needs tri3 or tet4 elements");
+        return aug_err_set(e, AUG_EDATA, -1, "ELEM", "refine needs tri3 or tet4 elements (a %s mesh is not refined)",
+                           aug_etype_name(m->etype));
     int rc;
     if (aug_mesh_copy(&r->cut, m) || aug_mesh_copy(&r->base, m)) goto nomem;
     if ((rc = aug_work_init(&r->work, m))) {

@@ -180,7 +180,7 @@ static void lift_moving(aug_dynsim *d, const aug_replay *rp, double *b)
         int hit = 0;
         for (int a = 0; a < nv; a++) hit |= d->moving[cn[a]];
         if (!hit) continue;
-        double Ke[144], Me[144];
+        double Ke[AUG_MAX_EMAT], Me[AUG_MAX_EMAT];
         aug_elem_stiffness(m, el, Ke);
         aug_elem_mass(m, el, d->p.mass == 2, Me);
         for (int j = 0; j < nd; j++) {

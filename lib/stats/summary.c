@@ -428,18 +428,22 @@ static void print_hist(FILE *o, const char *what, const double *edges, const int
 static void print_quality(FILE *o, const aug_summary *s, const snap *p, const char *which)
 {
     const aug_mesh *m = &s->rp.mesh;
-    int tet = m->nv == 4;
-    const char *ang = tet ? "min dihedral" : "min angle";
+    int tet = m->nv == 4, hex = m->nv == 8;
+    const char *ang = tet ? "min dihedral" : hex ? "min edge angle" : "min angle";
     fprintf(o, "quality (%s mesh: %lld elements)\n", which, (long long)p->q.ne);
-    fprintf(o, "  total %-10s %.10g\n", tet ? "volume" : "area", p->q.measure);
+    fprintf(o, "  total %-10s %.10g\n", m->dim == 3 ? "volume" : "area", p->q.measure);
     fprintf(o, "  aspect ratio     min %.6g  mean %.6g  max %.6g  (%s)\n", p->q.asp_min,
             p->q.asp_mean, p->q.asp_max, tet ? "R/(3r), 1 for the regular tet" : "longest/shortest edge");
     fprintf(o, "  %-16s min %.6g  mean %.6g  max %.6g  (degrees)\n", ang, p->q.ang_min,
             p->q.ang_mean, p->q.ang_max);
+    if (hex)
+        fprintf(o, "  scaled Jacobian  min %.6g  mean %.6g  (least over the corners, 1 for a cube)\n",
+                p->q.sj_min, p->q.sj_mean);
     fprintf(o, "  edge ratio max   %.6g\n", p->q.edge_ratio_max);
     if (p->q.nbad) fprintf(o, "  degenerate       %lld elements (no finite quality)\n", (long long)p->q.nbad);
     print_hist(o, "aspect ratio", aug_qhist_aspect, p->q.asp_hist);
     print_hist(o, ang, aug_qhist_angle, p->q.ang_hist);
+    if (hex) print_hist(o, "scaled Jacobian", aug_qhist_sjac, p->q.sj_hist);
 }
 
 /* each tool writes its pROv first and passes the upstream ones after it, so
@@ -462,7 +466,7 @@ static void print_mesh(FILE *o, const aug_summary *s)
     const aug_mesh *m = &s->rp.mesh;
     const snap *p = &s->init;
     fprintf(o, "mesh\n");
-    fprintf(o, "  dimension        %d (%s)\n", m->dim, m->nv == 4 ? "tet4" : "tri3");
+    fprintf(o, "  dimension        %d (%s)\n", m->dim, aug_etype_name(m->etype));
     fprintf(o, "  nodes            %lld\n", (long long)p->nn);
     fprintf(o, "  elements         %lld\n", (long long)p->ne);
     static const char ax[] = "xyz";

@@ -7,6 +7,7 @@
 
 #define VTK_TRIANGLE 5
 #define VTK_TETRA 10
+#define VTK_HEXAHEDRON 12
 
 /* ASCII readers cannot parse "nan"/"inf": undefined qualities are written as -1;
    8 values per line */
@@ -35,7 +36,7 @@ int aug_vtk_write_uv(FILE *o, const aug_mesh *m, const double *u, const double *
                      const unsigned char *mask, aug_err *e)
 {
     aug_err_clear(e);
-    if (m->nv != 3 && m->nv != 4) return aug_err_set(e, AUG_EUSAGE, -1, "", "mesh has no elements");
+    if (!aug_etype_nv(m->etype)) return aug_err_set(e, AUG_EUSAGE, -1, "", "mesh has no elements");
     int dim = m->dim, nv = m->nv;
     fprintf(o, "<?xml version=\"1.0\"?>\n");
     fprintf(o, "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
@@ -86,6 +87,11 @@ int aug_vtk_write_uv(FILE *o, const aug_mesh *m, const double *u, const double *
         put_q(o, i, q.min_angle);
     }
     close_array(o);
+    if (nv == 8) {
+        open_array(o, "Float64", "scaled_jacobian", 1);
+        for (int64_t i = 0; i < m->ne; i++) put_q(o, i, aug_hex_scaled_jacobian(m, i, NULL));
+        close_array(o);
+    }
     fprintf(o, "      </CellData>\n");
     fprintf(o, "      <Points>\n");
     open_array(o, "Float64", "points", 3);
@@ -108,7 +114,7 @@ int aug_vtk_write_uv(FILE *o, const aug_mesh *m, const double *u, const double *
     close_array(o);
     open_array(o, "UInt8", "types", 1);
     for (int64_t i = 0; i < m->ne; i++)
-        fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", nv == 4 ? VTK_TETRA : VTK_TRIANGLE);
+        fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", nv == 8 ? VTK_HEXAHEDRON : nv == 4 ? VTK_TETRA : VTK_TRIANGLE);
     close_array(o);
     fprintf(o, "      </Cells>\n");
     fprintf(o, "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");

@@ -127,11 +127,30 @@ def kv(p):
         o = 24 + 24 * i
         vals[name(p[o:o + 16])] = struct.unpack_from("<d", p, o + 16)[0]
     return tag, vals
+def hex_volume(P):
+    """volume of the trilinear hex with corners P (gmsh order): the integral
+    of det(dx/dxi) over [-1,1]^3 by the 2x2x2 Gauss rule (exact)"""
+    g = 1 / 3 ** 0.5
+    C = ((-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1))
+    v = 0.0
+    for xi in ((i, j, k) for i in (-g, g) for j in (-g, g) for k in (-g, g)):
+        J = [[0.0] * 3 for _ in range(3)]
+        for a, c in enumerate(C):
+            f = [1 + c[k] * xi[k] for k in range(3)]
+            d = (c[0] * f[1] * f[2] / 8, f[0] * c[1] * f[2] / 8, f[0] * f[1] * c[2] / 8)
+            for r in range(3):
+                for k in range(3):
+                    J[r][k] += P[a][r] * d[k]
+        v += (J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0])
+              + J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]))
+    return v
 
 
 def measure(m, e):
-    """signed volume (tet4) or area (tri3) of element e"""
+    """signed volume (tet4, hex8) or area (tri3) of element e"""
     P = [m["x"][i] for i in m["conn"][e]]
+    if m["nv"] == 8:
+        return hex_volume(P)
     if m["nv"] == 4:
         a = [P[1][k] - P[0][k] for k in range(3)]
         b = [P[2][k] - P[0][k] for k in range(3)]

@@ -30,7 +30,7 @@ cuts, whose command lines (their pROv records) say what each step must do.
   so far its star split into classes along the cut edges, one node a class;
 - K_t and f_t accumulated from K_0 (KMAT of IN, or assembled here when IN has
   none) and the UPDT records (k = dim * new nodes) equal the cut system
-  assembled here (tet4, tri3 plane stress) on the step's mesh at every step,
+  assembled here (tet4, hex8, tri3 plane stress) on the step's mesh at every step,
   entry by entry within 1e-12 * max|K|: the sum of the element terms of every
   element, summed afresh at the first and the last step, in between with the
   terms of every element whose nodes, material or constraints changed
@@ -364,19 +364,20 @@ class Checker:
                 self.fail("element %d re-wired from %s to %s, not to copies of its nodes" % (e, conn_before[e], conn[e]))
         # the faces the step opens: the cut faces at the duplicated nodes, still closed before
         new_pairs = [g for g in self.pairs if g not in pairs_before]
-        opened = set()
+        opened = {}
         for key, uses in fm_before.items():
             if len(uses) == 2 and pl.cut_face(uses[0][0], uses[1][0]) and any(v in copies for v in key):
-                opened.add(conform.geo_key(x, key))
-        if set(new_pairs) != opened:
-            extra = sorted(set(new_pairs) - opened)[:1] or sorted(opened - set(new_pairs))[:1]
+                opened[conform.geo_key(x, key)] = [x[v] for v in uses[0][1]]
+        if set(new_pairs) != set(opened):
+            extra = sorted(set(new_pairs) - set(opened))[:1] or sorted(set(opened) - set(new_pairs))[:1]
             self.fail("opened %d faces, the cut faces at the duplicated nodes are %d (e.g. %s)"
                       % (len(new_pairs), len(opened), extra))
         edges = set()
-        for g in opened:
-            for i in range(len(g)):
-                for j in range(i + 1, len(g)):
-                    edges.add(tuple(sorted((g[i], g[j]))))
+        for f in opened.values():  # the edges of a face: its sides (every pair of a triangle)
+            for i in range(len(f)):
+                for j in range(i + 1, len(f)):
+                    if len(f) < 4 or j == i + 1 or (i, j) == (0, 3):
+                        edges.add(tuple(sorted((f[i], f[j]))))
         got = [tuple(sorted(s)) for s in seg]
         if len(set(got)) != len(got) or set(got) != edges:
             self.fail("pATH has %d segments (%d distinct), the opened faces %d edges"

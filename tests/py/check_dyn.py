@@ -33,8 +33,23 @@ import cutsys  # noqa: E402
 
 def mass(P, dim, mat, lumped):
     """element mass of the simplex with corners P: rho * measure (* t in 2-D)
-    shared as 1/(nv) (lumped) or (1 + delta_ab) / ((nv)(nv+1)) (consistent)"""
+    shared as 1/(nv) (lumped) or (1 + delta_ab) / ((nv)(nv+1)) (consistent);
+    of the trilinear hex (8 corners): rho sum_q det J N_a N_b over the 2x2x2
+    Gauss points (cutsys.hex_points), lumped: its row sums"""
     rho, t = mat[4], mat[5]
+    if len(P) == 8:
+        m8 = [[0.0] * 8 for _ in range(8)]
+        for w, N, _ in cutsys.hex_points(P):
+            for x in range(8):
+                for y in range(8):
+                    m8[x][y] += rho * w * N[x] * N[y]
+        Me = [[0.0] * 24 for _ in range(24)]
+        for x in range(8):
+            for y in range(8):
+                v = (sum(m8[x]) if x == y else 0.0) if lumped else m8[x][y]
+                for i in range(3):
+                    Me[x * 3 + i][y * 3 + i] = v
+        return Me
     if dim == 3:
         a = [P[1][k] - P[0][k] for k in range(3)]
         b = [P[2][k] - P[0][k] for k in range(3)]

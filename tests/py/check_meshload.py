@@ -73,7 +73,7 @@ def main():
         fail("oUTs (%d, %s, %d nodes), want (%d, %s, %d nodes)" % (
             got["out"][0], got["out"][1], len(got["out"][2]), kind, out[0], len(out[1])))
     print("%s: %d nodes, %d %s, %d materials, %d sets (%s), %d fixed dofs, %d loaded dofs: as in the .msh" % (
-        os.path.basename(msh_path), len(got["x"]), len(got["conn"]), "tets" if dim == 3 else "triangles",
+        os.path.basename(msh_path), len(got["x"]), len(got["conn"]), {2: "triangles", 4: "tets", 5: "hexes"}[got["etype"]],
         len(got["mats"]), len(got["sets"]), " ".join("%s:%d" % (k, len(got["sets"][k])) for k in got["set_order"]),
         len(fix), len(load)))
 

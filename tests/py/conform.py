@@ -1,5 +1,5 @@
-"""Conformity of a simplicial mesh with cuts, for the test oracles: faces
-(edges of tri3, triangles of tet4) in at most two elements with opposite
+"""Conformity of a mesh with cuts, for the test oracles: faces (edges of
+tri3, triangles of tet4, quadrilaterals of hex8) in at most two elements with opposite
 orientations; an open face (in one element) must lie on the outer boundary
 of the uncut mesh or be one side of a cut, its other side a coincident open
 face with the opposite orientation. A hanging node (T-junction) leaves an
@@ -9,16 +9,23 @@ import math
 # faces of a positive element, each oriented outward (tri3: edges counter-clockwise)
 TRI = ((0, 1), (1, 2), (2, 0))
 TET = ((1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1))
+# gmsh hexahedron: bottom 0 1 2 3 counter-clockwise seen from above, top 4 5 6 7 above them
+HEX = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
 
 
 def faces_of(c):
-    return [tuple(c[i] for i in f) for f in (TRI if len(c) == 3 else TET)]
+    return [tuple(c[i] for i in f) for f in {3: TRI, 4: TET, 8: HEX}[len(c)]]
 
 
 def parity(f):
-    """orientation of a face given by its nodes: the parity of the permutation sorting them"""
+    """orientation of a face given by its nodes: the parity of the permutation
+    sorting them (a quadrilateral: whether it runs from its least node towards
+    the lesser of that node's two neighbours)"""
     if len(f) == 2:
         return f[0] > f[1]
+    if len(f) == 4:
+        i = f.index(min(f))
+        return f[(i + 1) % 4] > f[(i + 3) % 4]
     return ((f[0] > f[1]) + (f[0] > f[2]) + (f[1] > f[2])) & 1
 
 
@@ -36,6 +43,9 @@ def face_map(conn):
             a, b, d = c
             for f in ((a, b), (b, d), (d, a)):
                 add(f if f[0] < f[1] else (f[1], f[0]), []).append((e, f))
+        elif len(c) == 8:
+            for f in faces_of(c):
+                add(tuple(sorted(f)), []).append((e, f))
         else:
             a, b, d, g = c
             for f in ((b, d, g), (a, g, d), (a, b, g), (a, d, b)):
@@ -125,7 +135,10 @@ def dot(u, v):
 
 
 def inside(p, q, tol):
-    """p within tol of the segment (2 corners) or triangle (3 corners) q"""
+    """p within tol of the segment (2 corners), triangle (3 corners) or plane
+    quadrilateral (4 corners in cyclic order: its two triangles) q"""
+    if len(q) == 4:
+        return inside(p, q[:3], tol) or inside(p, [q[0], q[2], q[3]], tol)
     if len(q) == 2:
         u, w = sub(q[1], q[0]), sub(p, q[0])
         L2 = dot(u, u)

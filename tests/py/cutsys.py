@@ -1,9 +1,10 @@
 """The cut system of every step replayed from a stream, for the test oracles,
 written from the specification only (formats/stream.md 5, 6.2, 6.3, 7.1, 7.2,
 7.7): the mesh of step t rebuilt from the MDLT and BDLT records, K_t and f_t
-assembled from scratch on it (P1 linear elasticity: tet4, tri3 plane stress of
-thickness t), and the same pair accumulated from K_0 and the UPDT records
+assembled from scratch on it (linear elasticity: P1 tet4, tri3 plane stress of
+thickness t, Q1 hex8 with 2x2x2 Gauss), and the same pair accumulated from K_0 and the UPDT records
 (AMPS paper eq. 3.1). Matrices are dicts {(i, j): v} of the upper triangle."""
+import math
 import struct
 
 import augstream
@@ -92,11 +93,60 @@ def fvec(p):
     return kind, arr("d", p, 16, n)[0]
 
 
+# hex8 corners in natural coordinates (gmsh order)
+HEXC = ((-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1))
+
+
+def inv3(J):
+    """(det J, J^-1) of a 3 x 3 list of lists, by Cramer's rule"""
+    a, b, c = J[0]
+    d, e, f = J[1]
+    g, h, i = J[2]
+    det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    adj = [[e * i - f * h, c * h - b * i, b * f - c * e],
+           [f * g - d * i, a * i - c * g, c * d - a * f],
+           [d * h - e * g, b * g - a * h, a * e - b * d]]
+    return det, [[v / det for v in row] for row in adj]
+
+
+def hex_points(P):
+    """[(w det J, N, G)] at the 2x2x2 Gauss points of the trilinear hex with
+    corners P: N[a] shape values, G[a][k] = dN_a/dx_k (Hughes, The Finite
+    Element Method, sec. 3.5-3.8)"""
+    g = 1 / math.sqrt(3)
+    out = []
+    for xi in ((i, j, k) for k in (-g, g) for j in (-g, g) for i in (-g, g)):
+        N, dN = [], []
+        for c in HEXC:
+            f = [1 + c[k] * xi[k] for k in range(3)]
+            N.append(f[0] * f[1] * f[2] / 8)
+            dN.append((c[0] * f[1] * f[2] / 8, f[0] * c[1] * f[2] / 8, f[0] * f[1] * c[2] / 8))
+        # J[r][k] = dx_r / dxi_k
+        J = [[sum(P[a][r] * dN[a][k] for a in range(8)) for k in range(3)] for r in range(3)]
+        det, Ji = inv3(J)
+        G = [[sum(dN[a][k] * Ji[k][r] for k in range(3)) for r in range(3)] for a in range(8)]
+        out.append((det, N, G))
+    return out
+
+
 def stiffness(P, dim, mat):
-    """element stiffness of the simplex with corners P (list of lists), dof
-    order node*dim + c; mat = (id, name, E, nu, rho, t)"""
+    """element stiffness of the simplex or trilinear hex (8 corners: 2x2x2
+    Gauss) with corners P (list of lists), dof order node*dim + c; mat = (id,
+    name, E, nu, rho, t)"""
     _, _, E, nu, _, t = mat
     mu = E / (2 * (1 + nu))
+    if len(P) == 8:
+        lam = E * nu / ((1 + nu) * (1 - 2 * nu))
+        K = [[0.0] * 24 for _ in range(24)]
+        for w, _, G in hex_points(P):
+            for a in range(8):
+                for b in range(8):
+                    gg = sum(G[a][k] * G[b][k] for k in range(3))
+                    for i in range(3):
+                        for j in range(3):
+                            v = lam * G[a][i] * G[b][j] + mu * G[a][j] * G[b][i] + (mu * gg if i == j else 0.0)
+                            K[a * 3 + i][b * 3 + j] += w * v
+        return K
     if dim == 3:
         J = [[P[i][k] - P[0][k] for k in range(3)] for i in (1, 2, 3)]
         det = (J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0])

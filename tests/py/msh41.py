@@ -1,7 +1,7 @@
 """Independent reader of gmsh ASCII MSH 4.1 files (PhysicalNames, Entities,
 Nodes, Elements), for tests, and the mesh meshload must make of one
 (formats/stream.md section 5, meshload(1)): used nodes in ascending tag order,
-tets (or, without tets, triangles) in ascending tag order, one material per
+hexes or tets (or, without either, triangles) in ascending tag order, one material per
 physical group of the top dimension plus "default", one set per physical
 group plus "boundary"."""
 import shlex
@@ -59,8 +59,8 @@ def read(path):
 def expected(msh):
     """the mesh meshload should write, as a dict comparable with augstream.mesh()"""
     types = {e[1] for e in msh["elems"]}
-    etype = 4 if 4 in types else 2
-    dim = 3 if etype == 4 else 2
+    etype = 5 if 5 in types else 4 if 4 in types else 2
+    dim = 2 if etype == 2 else 3
     els = sorted((e for e in msh["elems"] if e[1] == etype), key=lambda e: e[0])
     used = sorted({n for e in els for n in e[3]})
     new = {t: k for k, t in enumerate(used)}
@@ -91,9 +91,12 @@ def expected(msh):
                 sets[nm].update(new[n] for n in e[3] if n in new)
     if "boundary" not in sets:
         faces = {}
+        # hex8 faces in gmsh's node order (bottom 0123, top 4567), simplex faces: all nodes but one
+        hexf = ((0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
         for c in conn:
-            for j in range(len(c)):
-                f = tuple(sorted(c[:j] + c[j + 1:]))
+            fs = [[c[i] for i in h] for h in hexf] if len(c) == 8 else [c[:j] + c[j + 1:] for j in range(len(c))]
+            for f in fs:
+                f = tuple(sorted(f))
                 faces[f] = faces.get(f, 0) + 1
         sets["boundary"] = {n for f, k in faces.items() if k == 1 for n in f}
         order.append("boundary")

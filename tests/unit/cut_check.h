@@ -123,6 +123,35 @@ static inline void cc_brick(aug_mesh *m, int nx, int ny, int nz, double lx, doub
     cc_bc(m, 2, lz, r, fixval);
 }
 
+/* the same brick as nx x ny x nz trilinear hexahedra (gmsh node order), two
+   materials (top and bottom halves), fixed at z = 0 */
+static inline void cc_hexbrick(aug_mesh *m, int nx, int ny, int nz, double lx, double ly, double lz,
+                               gsl_rng *r, double fixval)
+{
+    cc_brick(m, nx, ny, nz, lx, ly, lz, NULL, 0);
+    free(m->conn);
+    free(m->mat);
+    free(m->fix_dof), free(m->fix_val), free(m->load_dof), free(m->load_val);
+    for (int i = 0; i < m->nset; i++) free(m->sets[i].nodes);
+    m->nset = 0;
+    m->etype = AUG_HEX8;
+    m->nv = 8;
+    m->ne = (int64_t)nx * ny * nz;
+    m->conn = malloc((size_t)(m->ne * 8) * sizeof *m->conn);
+    m->mat = malloc((size_t)m->ne * sizeof *m->mat);
+    static const int bits[8] = {0, 1, 3, 2, 4, 5, 7, 6}; /* x=1 y=2 z=4 */
+    int64_t el = 0;
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++, el++) {
+                for (int a = 0; a < 8; a++)
+                    m->conn[el * 8 + a] = (int32_t)(((k + (bits[a] >> 2 & 1)) * (ny + 1) + j + (bits[a] >> 1 & 1)) *
+                                                        (nx + 1) + i + (bits[a] & 1));
+                m->mat[el] = k >= nz / 2;
+            }
+    cc_bc(m, 2, lz, r, fixval);
+}
+
 /* nx x ny squares of [0,lx]x[0,ly], each split along the same diagonal, fixed at x = 0 */
 static inline void cc_square(aug_mesh *m, int nx, int ny, double lx, double ly, gsl_rng *r, double fixval)
 {
@@ -378,29 +407,49 @@ static inline int cmp_face3(const void *a, const void *b)
     return 0;
 }
 
+/* facets of an element, written here from gmsh's conventions (not the
+   library's tables): tri3 edges, tet4 triangles (every node but one), hex8
+   quadrilaterals; facet f of element e as its sorted nodes, padded with -1 */
+static inline int cc_nfacets(const aug_mesh *m) { return m->nv == 8 ? 6 : m->nv; }
+
+static inline void cc_facet(const aug_mesh *m, int64_t e, int f, int32_t q[4])
+{
+    static const int hexf[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 4, 5}, {1, 2, 5, 6}, {2, 3, 6, 7}, {0, 3, 4, 7}};
+    int nv = m->nv, k = 0;
+    q[2] = q[3] = -1;
+    if (nv == 8)
+        for (k = 0; k < 4; k++) q[k] = m->conn[e * 8 + hexf[f][k]];
+    else
+        for (int a = 0; a < nv; a++)
+            if (a != f) q[k++] = m->conn[e * nv + a];
+    for (int i = 1; i < k; i++)
+        for (int j = i; j > 0 && q[j - 1] > q[j]; j--) {
+            int32_t t = q[j];
+            q[j] = q[j - 1];
+            q[j - 1] = t;
+        }
+}
+
+static inline int cmp_face4(const void *a, const void *b)
+{
+    const int32_t *x = a, *y = b;
+    for (int k = 0; k < 4; k++)
+        if (x[k] != y[k]) return x[k] < y[k] ? -1 : 1;
+    return 0;
+}
+
 static inline cc_faces cc_count_faces(const aug_mesh *m)
 {
-    int nv = m->nv, nf = nv - 1;
-    int64_t n = m->ne * nv;
-    int32_t *F = malloc((size_t)(n * 3 + 1) * sizeof *F);
+    int nf = cc_nfacets(m);
+    int64_t n = m->ne * nf;
+    int32_t *F = malloc((size_t)(n * 4 + 1) * sizeof *F);
     for (int64_t e = 0; e < m->ne; e++)
-        for (int f = 0; f < nv; f++) {
-            int32_t *q = F + (e * nv + f) * 3, k = 0;
-            q[2] = -1;
-            for (int a = 0; a < nv; a++)
-                if (a != f) q[k++] = m->conn[e * nv + a];
-            for (int i = 1; i < nf; i++)
-                for (int j = i; j > 0 && q[j - 1] > q[j]; j--) {
-                    int32_t t = q[j];
-                    q[j] = q[j - 1];
-                    q[j - 1] = t;
-                }
-        }
-    qsort(F, (size_t)n, 3 * sizeof *F, cmp_face3);
+        for (int f = 0; f < nf; f++) cc_facet(m, e, f, F + (e * nf + f) * 4);
+    qsort(F, (size_t)n, 4 * sizeof *F, cmp_face4);
     cc_faces r = {0, 0, 0};
     for (int64_t i = 0; i < n;) {
         int64_t j = i;
-        while (j < n && cmp_face3(F + j * 3, F + i * 3) == 0) j++;
+        while (j < n && cmp_face4(F + j * 4, F + i * 4) == 0) j++;
         if (j - i == 1) r.one++;
         else if (j - i == 2) r.two++;
         else r.more++;

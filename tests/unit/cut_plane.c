@@ -1,4 +1,4 @@
-/* Planar cuts on tet meshes: at every step of random cut sequences, K_t from
+/* Planar cuts on tet and hex meshes: at every step of random cut sequences, K_t from
    scratch == K_0 padded minus the accumulated updates (AMPS eq. 3.1), loads,
    volume, no degenerate element, face conformity, detached pieces. */
 #include "t.h"
@@ -8,13 +8,13 @@ static cholmod_common cm;
 
 typedef struct faces3 {
     int64_t n;
-    int32_t *f;          /* original faces between + and - elements (nv-1 nodes, padded) */
+    int32_t *f;          /* original faces between + and - elements (4 nodes each, padded with -1) */
 } faces3;
 
 /* independent classification: faces shared by elements on both sides of n.x = d */
 static faces3 plane_faces(const aug_mesh *m, const double *n, double d)
 {
-    int nv = m->nv, dim = m->dim;
+    int nv = m->nv, dim = m->dim, nfc = cc_nfacets(m);
     double len = 0;
     for (int k = 0; k < dim; k++) len += n[k] * n[k];
     len = sqrt(len);
@@ -25,28 +25,19 @@ static faces3 plane_faces(const aug_mesh *m, const double *n, double d)
             for (int k = 0; k < dim; k++) s += m->x[m->conn[e * nv + a] * dim + k] / nv * n[k] / len;
         side[e] = s > d / len;
     }
-    int64_t nf = m->ne * nv;
-    int32_t *F = malloc((size_t)nf * 4 * sizeof *F);
+    int64_t nf = m->ne * nfc;
+    int32_t *F = malloc((size_t)nf * 5 * sizeof *F);
     for (int64_t e = 0; e < m->ne; e++)
-        for (int f = 0; f < nv; f++) {
-            int32_t *q = F + (e * nv + f) * 4;
-            int k = 0;
-            q[2] = -1;
-            for (int a = 0; a < nv; a++)
-                if (a != f) q[k++] = m->conn[e * nv + a];
-            for (int i = 1; i < nv - 1; i++)
-                for (int j = i; j > 0 && q[j - 1] > q[j]; j--) {
-                    int32_t t = q[j];
-                    q[j] = q[j - 1];
-                    q[j - 1] = t;
-                }
-            q[3] = side[e];
+        for (int f = 0; f < nfc; f++) {
+            int32_t *q = F + (e * nfc + f) * 5;
+            cc_facet(m, e, f, q);
+            q[4] = side[e];
         }
-    qsort(F, (size_t)nf, 4 * sizeof *F, cmp_face3);
-    faces3 r = {0, malloc((size_t)nf * 3 * sizeof(int32_t))};
+    qsort(F, (size_t)nf, 5 * sizeof *F, cmp_face4);
+    faces3 r = {0, malloc((size_t)nf * 4 * sizeof(int32_t))};
     for (int64_t i = 0; i + 1 < nf; i++)
-        if (cmp_face3(F + i * 4, F + (i + 1) * 4) == 0 && F[i * 4 + 3] != F[(i + 1) * 4 + 3]) {
-            memcpy(r.f + r.n * 3, F + i * 4, 3 * sizeof(int32_t));
+        if (cmp_face4(F + i * 5, F + (i + 1) * 5) == 0 && F[i * 5 + 4] != F[(i + 1) * 5 + 4]) {
+            memcpy(r.f + r.n * 4, F + i * 5, 4 * sizeof(int32_t));
             r.n++;
         }
     free(F);
@@ -193,7 +184,8 @@ static int run_planes(aug_mesh *m, const run_opt *o, run_res *res)
             if (o->nplanes == 1) {
                 int64_t opened = 0;
                 for (int64_t i = 0; i < cf.n; i++)
-                    opened += dup[cf.f[i * 3]] || dup[cf.f[i * 3 + 1]] || dup[cf.f[i * 3 + 2]];
+                    opened += dup[cf.f[i * 4]] || dup[cf.f[i * 4 + 1]] || dup[cf.f[i * 4 + 2]] ||
+                              (cf.f[i * 4 + 3] >= 0 && dup[cf.f[i * 4 + 3]]);
                 T_CHECK(ft.two == f0.two - opened && ft.one == f0.one + 2 * opened,
                         "step %d: %lld shared and %lld boundary faces, want %lld and %lld", step,
                         (long long)ft.two, (long long)ft.one, (long long)(f0.two - opened),
@@ -217,13 +209,17 @@ out0:
     return rc;
 }
 
-static void brick_random(void)
+/* a brick of tets (cc_brick) or hexes (cc_hexbrick) */
+typedef void (*brick_fn)(aug_mesh *m, int nx, int ny, int nz, double lx, double ly, double lz, gsl_rng *r,
+                         double fixval);
+
+static void random_planes(brick_fn brick)
 {
     for (unsigned long seed = 1; seed <= 4 && !t_cur_failed; seed++) {
         gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
         gsl_rng_set(r, seed);
         aug_mesh m;
-        cc_brick(&m, 3, 3, 6, 1, 1, 2, r, seed % 3 == 0 ? 0.01 : 0.0);
+        brick(&m, 3, 3, 6, 1, 1, 2, r, seed % 3 == 0 ? 0.01 : 0.0);
         run_opt o = {1, seed % 2 ? AUG_DETACH_PIN : AUG_DETACH_DROP, seed % 2 ? 0 : 3, 40, 0, 0,
                      seed % 2 ? 0.1 : 0.0, NULL, NULL, seed};
         run_res res;
@@ -234,12 +230,15 @@ static void brick_random(void)
     }
 }
 
+static void brick_random(void) { random_planes(cc_brick); }
+static void hex_random(void) { random_planes(cc_hexbrick); }
+
 /* two and three planes one after another: cross cuts and re-cuts */
-static void brick_cross(void)
+static void cross_planes(brick_fn brick)
 {
     for (unsigned long seed = 11; seed <= 12 && !t_cur_failed; seed++) {
         aug_mesh m;
-        cc_brick(&m, 3, 3, 6, 1, 1, 2, NULL, 0);
+        brick(&m, 3, 3, 6, 1, 1, 2, NULL, 0);
         run_opt o = {(int)(seed - 9), AUG_DETACH_PIN, 0, 60, 0, 0, 0.05, NULL, NULL, seed};
         run_res res;
         run_planes(&m, &o, &res);
@@ -247,12 +246,16 @@ static void brick_cross(void)
     }
 }
 
-/* the papers' experiment on the 4x4x8 brick: plane x = 0.5, default advance */
-static void brick_paper(void)
+static void brick_cross(void) { cross_planes(cc_brick); }
+static void hex_cross(void) { cross_planes(cc_hexbrick); }
+
+/* the papers' experiment on the 4x4x8 brick: plane x = 0.5, default advance
+   (the hex brick: the plane runs along the faces x = 0.5 of its cells) */
+static void paper_plane(brick_fn brick)
 {
     aug_mesh m;
     aug_err e;
-    cc_brick(&m, 4, 4, 8, 1, 1, 2, NULL, 0);
+    brick(&m, 4, 4, 8, 1, 1, 2, NULL, 0);
     aug_adj adj;
     aug_adj_build(&adj, &m);
     aug_plane_cut pc;
@@ -280,15 +283,18 @@ static void brick_paper(void)
     aug_mesh_free(&m);
 }
 
+static void brick_paper(void) { paper_plane(cc_brick); }
+static void hex_paper(void) { paper_plane(cc_hexbrick); }
+
 /* a beam cut across: the tip comes off; error reports the step where K_t
    becomes singular, which an eigenvalue computation confirms */
-static void beam_detach(void)
+static void detach_beam(brick_fn brick)
 {
     double n[3] = {0, 0, 1}, d = 1.47;
     for (int run = 0; run < 6 && !t_cur_failed; run++) {
         int policy = run < 4 ? AUG_DETACH_ERROR : run - 3;
         aug_mesh m;
-        cc_brick(&m, 2, 2, 10, 0.4, 0.4, 2.0, NULL, 0);
+        brick(&m, 2, 2, 10, 0.4, 0.4, 2.0, NULL, 0);
         run_opt o = {1, policy, 0, 100, 1, policy == AUG_DETACH_ERROR, 0.0, n, &d,
                      (unsigned long)run + 3};
         run_res res;
@@ -307,13 +313,16 @@ static void beam_detach(void)
     /* the same with eigenvalues checked after pinning and dropping */
     for (int policy = 1; policy < 3 && !t_cur_failed; policy++) {
         aug_mesh m;
-        cc_brick(&m, 2, 2, 10, 0.4, 0.4, 2.0, NULL, 0);
+        brick(&m, 2, 2, 10, 0.4, 0.4, 2.0, NULL, 0);
         run_opt o = {1, policy, 0, 100, 1, 1, 0.0, n, &d, 3};
         run_res res;
         run_planes(&m, &o, &res);
         aug_mesh_free(&m);
     }
 }
+
+static void beam_detach(void) { detach_beam(cc_brick); }
+static void hex_beam_detach(void) { detach_beam(cc_hexbrick); }
 
 static void determinism(void)
 {
@@ -461,6 +470,10 @@ int main(void)
     T_RUN(brick_cross);
     T_RUN(brick_paper);
     T_RUN(beam_detach);
+    T_RUN(hex_random);
+    T_RUN(hex_cross);
+    T_RUN(hex_paper);
+    T_RUN(hex_beam_detach);
     T_RUN(determinism);
     T_RUN(build_api);
     T_RUN(alloc_failures);

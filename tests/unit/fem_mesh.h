@@ -1,5 +1,6 @@
 /* Structured test meshes built in code for the fem_* unit tests: a box of
-   hexahedra split into 6 tets each (around the main diagonal), and a rectangle
+   hexahedra split into 6 tets each (around the main diagonal) or kept as
+   trilinear hexahedra, and a rectangle
    of squares split into 2 triangles each; plus small dense helpers. */
 #ifndef FEM_MESH_H
 #define FEM_MESH_H
@@ -59,6 +60,29 @@ static inline void tm_box(aug_mesh *m, int nx, int ny, int nz, double lx, double
                 }
     m->have = AUG_HAVE_NODE | AUG_HAVE_ELEM;
     tm_material(m, 1, E, nu, 0.0, 1.0);
+}
+
+/* The same box as nx*ny*nz trilinear hexahedra (same nodes, gmsh node order:
+   corner bits x=1, y=2, z=4 at 0 1 3 2 4 5 7 6). */
+static inline void tm_hexbox(aug_mesh *m, int nx, int ny, int nz, double lx, double ly, double lz,
+                             double E, double nu)
+{
+    tm_box(m, nx, ny, nz, lx, ly, lz, E, nu);
+    free(m->conn);
+    free(m->mat);
+    m->etype = AUG_HEX8, m->nv = 8;
+    m->ne = (int64_t)nx * ny * nz;
+    m->conn = malloc((size_t)m->ne * 8 * sizeof(int32_t));
+    m->mat = calloc((size_t)m->ne, sizeof(int32_t));
+    static const int bits[8] = {0, 1, 3, 2, 4, 5, 7, 6};
+    int64_t e = 0;
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++, e++)
+                for (int a = 0; a < 8; a++) {
+                    int ii = i + (bits[a] & 1), jj = j + ((bits[a] >> 1) & 1), kk = k + ((bits[a] >> 2) & 1);
+                    m->conn[e * 8 + a] = ii + (nx + 1) * (jj + (ny + 1) * kk);
+                }
 }
 
 /* nx*ny squares on [0,lx]x[0,ly], each split along its diagonal, CCW. */
