@@ -10,16 +10,16 @@
 #include "aug_modal.h"
 
 static uint64_t g_seed = 12345;
-static double g_unif(void)
+static inline double g_unif(void)
 {
     g_seed = g_seed * 6364136223846793005ull + 1442695040888963407ull;
     return ((double)(g_seed >> 11) + 0.5) * 0x1.0p-53;
 }
-static double g_normal(void) { return sqrt(-2 * log(g_unif())) * cos(2 * M_PI * g_unif()); }
+static inline double g_normal(void) { return sqrt(-2 * log(g_unif())) * cos(2 * M_PI * g_unif()); }
 
 /* X (n x m): rank-k structure B C with singular values ~ 2^-j plus noise
    (k = 0: pure Gaussian) */
-static double *g_snapshots(int64_t n, int m, int k, double noise)
+static inline double *g_snapshots(int64_t n, int m, int k, double noise)
 {
     double *X = malloc((size_t)n * m * sizeof *X);
     double *B = malloc((size_t)n * (k + 1) * sizeof *B), *C = malloc((size_t)(k + 1) * m * sizeof *C);
@@ -37,7 +37,7 @@ static double *g_snapshots(int64_t n, int m, int k, double noise)
 }
 
 /* singular values (descending, min(n, m)) and left vectors (n x min) of X */
-static void g_svd(const double *X, int64_t n, int m, double *sv, double *U)
+static inline void g_svd(const double *X, int64_t n, int m, double *sv, double *U)
 {
     int p = n < m ? (int)n : m;
     double *A = malloc((size_t)n * m * sizeof *A), *sb = malloc((size_t)p * sizeof *sb);
@@ -49,7 +49,7 @@ static void g_svd(const double *X, int64_t n, int m, double *sv, double *U)
 
 /* smallest cosine of the principal angles between span(A) and span(B), both
    n x r with orthonormal columns: the smallest singular value of A'B */
-static double g_min_cos(const double *A, const double *B, int64_t n, int r)
+static inline double g_min_cos(const double *A, const double *B, int64_t n, int r)
 {
     double *C = calloc((size_t)r * r, sizeof *C), *sv = malloc(r * sizeof *sv);
     for (int i = 0; i < r; i++)
