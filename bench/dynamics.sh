@@ -9,7 +9,8 @@
 # refactor (CHOLMOD with a reused ordering) as ratios, the largest residual
 # and err_direct; the energy per frame of the h = 1/60 run as a plot.
 # Scenes: brick N=16 and beam h=256 (bundled .geo), and the organ meshes of
-# ../shared/meshes when present (soft tissue: E = 3 kPa, nu = 0.45, rho = 1000).
+# ../shared/meshes when present (bunny, liver, brain + CSF; supported on their
+# lowest tenth in z, under gravity; soft tissue: E = 3 kPa, nu = 0.45, rho = 1000).
 # Writes bench/out/dynamics.csv, dynamics_frames_SCENE.csv, dynamics.png,
 # dynamics_energy.png. Env: SCENES, STEPS (default 16), FRAMES (4), QUICK=1, MAT
 # (meshload material options of the bundled grids; the organs keep soft tissue).
@@ -22,19 +23,23 @@ STEPS=${STEPS:-16}; FRAMES=${FRAMES:-4}
 MAT=${MAT:-"--default-material E=1e6,nu=0.3,rho=1"}
 METHODS=${METHODS:-amps,pcg,refactor,gmres}
 if [ "${QUICK:-0}" = 1 ]; then SCENES=${SCENES:-brick_n8}; STEPS=4; FRAMES=2; fi
-SCENES=${SCENES:-"brick_n16 beam_h256 organ_bunny organ_liver"}
+SCENES=${SCENES:-"brick_n16 beam_h256 organ_bunny organ_liver organ_brain"}
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 CSV=$O/dynamics.csv
 echo "scene,n,h,method,frames,frame_ms,step_ms,fps,ratio_full_solve,amps_vs_pcg,amps_vs_refactor,max_relres,max_err_direct" > $CSV
 mesh_of() { # scene -> meshload arguments (empty: not available)
     case $1 in
         organ_bunny) f=$(ls ../shared/meshes/*bunny*.msh 2>/dev/null | head -1) ;;
-        organ_liver) f=$(ls ../shared/meshes/*liver*.msh 2>/dev/null | head -1) ;;
+        organ_liver) f=$(ls ../shared/meshes/liver_sofa_mor*.msh 2>/dev/null | head -1) ;;
+        organ_brain) f=$(ls ../shared/meshes/brain_csf*.msh 2>/dev/null | head -1) ;;
         *) [ -f $S/$1.msh ] || make -s $S/$1.msh > /dev/null 2>&1; f=$S/$1.msh ;;
     esac
     [ -n "$f" ] && [ -f "$f" ] || return 1
     case $1 in
-        organ_*) echo "$f --fix plane:0,0,1,0,1e30 --default-material E=3000,nu=0.45,rho=1000" ;;
+        organ_*) # supported on its lowest tenth in z, under gravity, soft tissue (E 3 kPa, nu 0.45, rho 1000)
+            box=$($B/meshload "$f" | $B/stats | awk '$1 == "bounding" {
+                gsub(/[\[\],]/, " "); print $4 - 1, $7 - 1, $10 - 1, $5 + 1, $8 + 1, $10 + 0.1 * ($11 - $10) }' | tr ' ' ',')
+            echo "$f --fix box:$box --default-material E=3000,nu=0.45,rho=1000 --gravity 0,0,-9.81" ;;
         beam*) echo "$f --fix fixed --load tip:0,1e-3,0 $MAT" ;;
         *) echo "$f --fix fixed --load top:0,0,-1 $MAT" ;;
     esac
