@@ -171,6 +171,9 @@ typedef struct aug_buf {
 } aug_buf;
 void aug_buf_init(aug_buf *b);
 void aug_buf_free(aug_buf *b);
+/* The record type/step with b's bytes as payload (aug_write), or AUG_ENOMEM
+   naming the record when b failed to grow; b is freed either way. */
+int aug_buf_write(aug_writer *w, const char *type, int32_t step, aug_buf *b, aug_err *e);
 void aug_buf_put(aug_buf *b, const void *src, size_t n);
 void aug_buf_i32(aug_buf *b, int32_t v);
 void aug_buf_i64(aug_buf *b, int64_t v);

@@ -46,10 +46,7 @@ int aug_write_dynp(aug_writer *w, const aug_dynp *d, aug_err *e)
     aug_buf_f64(&b, d->beta);
     aug_buf_f64(&b, d->cM);
     aug_buf_f64(&b, d->cK);
-    int rc = b.failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "DYNP", "out of memory")
-                      : aug_write(w, "DYNP", AUG_NOSTEP, b.p, b.len, e);
-    aug_buf_free(&b);
-    return rc;
+    return aug_buf_write(w, "DYNP", AUG_NOSTEP, &b, e);
 }
 
 int aug_read_dynp(const aug_rec *rec, aug_dynp *d, aug_err *e)

@@ -24,10 +24,7 @@ static void reserve(aug_buf *b, size_t n)
 
 static int finish(aug_writer *w, aug_buf *b, aug_err *e)
 {
-    int rc = b->failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "FACT", "out of memory")
-                       : aug_write(w, "FACT", AUG_NOSTEP, b->p, b->len, e);
-    aug_buf_free(b);
-    return rc;
+    return aug_buf_write(w, "FACT", AUG_NOSTEP, b, e);
 }
 
 static void put_header(aug_buf *b, const cholmod_factor *L, int64_t nnz, const int64_t *cp)

@@ -26,10 +26,7 @@ int aug_write_field(aug_writer *w, int32_t step, int32_t kind, int dim, int64_t 
     aug_buf_i32(&b, 0);
     if (nodes) aug_buf_i32v(&b, nodes, (size_t)count);
     aug_buf_f64v(&b, u, (size_t)(count * dim));
-    int rc = b.failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "fELD", "out of memory")
-                      : aug_write(w, "fELD", step, b.p, b.len, e);
-    aug_buf_free(&b);
-    return rc;
+    return aug_buf_write(w, "fELD", step, &b, e);
 }
 
 /* the node list (indexed) and nf nodal arrays of count x dim values after a
@@ -109,10 +106,7 @@ int aug_write_frame(aug_writer *w, int32_t step, const aug_frame *f, aug_err *e)
     if (f->nodes) aug_buf_i32v(&b, f->nodes, (size_t)f->count);
     aug_buf_f64v(&b, f->u, (size_t)nv);
     aug_buf_f64v(&b, f->v, (size_t)nv);
-    int rc = b.failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "fRAM", "out of memory")
-                      : aug_write(w, "fRAM", step, b.p, b.len, e);
-    aug_buf_free(&b);
-    return rc;
+    return aug_buf_write(w, "fRAM", step, &b, e);
 }
 
 int aug_read_frame(const aug_rec *rec, aug_frame *f, aug_err *e)

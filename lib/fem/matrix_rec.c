@@ -9,14 +9,6 @@
 #define DATA(...) aug_err_set(e, AUG_EDATA, rec->index, rec->type, __VA_ARGS__)
 #define NOMEM() aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory")
 
-static int put(aug_writer *w, const char *type, int32_t step, aug_buf *b, aug_err *e)
-{
-    int rc = b->failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), type, "out of memory")
-                       : aug_write(w, type, step, b->p, b->len, e);
-    aug_buf_free(b);
-    return rc;
-}
-
 /* DOFM: i32 dim, i32 0, i64 ndof, i64 nfree, i32 map[ndof] */
 int aug_write_dofmap(aug_writer *w, const aug_mesh *m, const int32_t *map, int64_t nfree,
                      aug_err *e)
@@ -30,7 +22,7 @@ int aug_write_dofmap(aug_writer *w, const aug_mesh *m, const int32_t *map, int64
     aug_buf_i64(&b, nd);
     aug_buf_i64(&b, nfree);
     aug_buf_i32v(&b, map, (size_t)nd);
-    return put(w, "DOFM", AUG_NOSTEP, &b, e);
+    return aug_buf_write(w, "DOFM", AUG_NOSTEP, &b, e);
 }
 
 /* map[dof] in {-1} u {0..nfree-1}, the free indices 0, 1, 2, ... in dof order */
@@ -109,7 +101,7 @@ int aug_write_sparse(aug_writer *w, int which, const cholmod_sparse *A, aug_err 
             aug_buf_i32v(&b, Ai + Ap[j], (size_t)(A->packed ? Ap[j + 1] - Ap[j] : Anz[j]));
         for (int64_t j = 0; j < n; j++)
             aug_buf_f64v(&b, Ax + Ap[j], (size_t)(A->packed ? Ap[j + 1] - Ap[j] : Anz[j]));
-        return put(w, "KMAT", AUG_NOSTEP, &b, e);
+        return aug_buf_write(w, "KMAT", AUG_NOSTEP, &b, e);
     }
     /* unsorted: sort (row, position) keys per column; rows pass, then values pass */
     int32_t *key = aug_malloc((maxcol ? maxcol : 1) * 2 * sizeof *key);
@@ -128,7 +120,7 @@ int aug_write_sparse(aug_writer *w, int which, const cholmod_sparse *A, aug_err 
             }
         }
     free(key);
-    return put(w, "KMAT", AUG_NOSTEP, &b, e);
+    return aug_buf_write(w, "KMAT", AUG_NOSTEP, &b, e);
 }
 
 cholmod_sparse *aug_read_sparse(const aug_rec *rec, int *which, cholmod_common *cm,
@@ -199,7 +191,7 @@ int aug_write_vector(aug_writer *w, const char *type, int32_t step, int32_t kind
     aug_buf_i32(&b, 0);
     aug_buf_i64(&b, n);
     aug_buf_f64v(&b, v, (size_t)n);
-    return put(w, type, step, &b, e);
+    return aug_buf_write(w, type, step, &b, e);
 }
 
 int aug_read_vector(const aug_rec *rec, int32_t *kind, int64_t *n, double **v, aug_err *e)

@@ -44,10 +44,7 @@ int aug_write_reaction(aug_writer *w, int32_t step, const aug_reaction *q, aug_e
         aug_buf_name(&b, q->name[s]);
         aug_buf_f64v(&b, q->res + s * d, (size_t)d);
     }
-    int rc = b.failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "rEAC", "out of memory")
-                      : aug_write(w, "rEAC", step, b.p, b.len, e);
-    aug_buf_free(&b);
-    return rc;
+    return aug_buf_write(w, "rEAC", step, &b, e);
 }
 
 static int cmp_name(const void *a, const void *b) { return strncmp(a, b, AUG_NAME); }

@@ -240,10 +240,7 @@ int aug_mesh_absorb(aug_mesh *m, const aug_rec *rec, aug_err *e)
 
 static int put(aug_writer *w, const char *type, aug_buf *b, aug_err *e)
 {
-    int rc = b->failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), type, "out of memory")
-                       : aug_write(w, type, AUG_NOSTEP, b->p, b->len, e);
-    aug_buf_free(b);
-    return rc;
+    return aug_buf_write(w, type, AUG_NOSTEP, b, e);
 }
 
 static void put_dofval(aug_buf *b, int64_t n, const int32_t *dof, const double *val)

@@ -6,14 +6,6 @@
 #include <string.h>
 #include "aug_update.h"
 
-static int emit(aug_writer *w, const char *type, int32_t step, aug_buf *b, aug_err *e)
-{
-    int rc = b->failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), type, "out of memory")
-                       : aug_write(w, type, step, b->p, b->len, e);
-    aug_buf_free(b);
-    return rc;
-}
-
 int aug_write_mdelta(aug_writer *w, int dim, int nv, const aug_mdelta *d, aug_err *e)
 {
     aug_buf b;
@@ -29,7 +21,7 @@ int aug_write_mdelta(aug_writer *w, int dim, int nv, const aug_mdelta *d, aug_er
     aug_buf_i32v(&b, d->mat_add, (size_t)d->nadd);
     aug_buf_i32(&b, d->flags);
     aug_buf_i32(&b, 0);
-    return emit(w, "MDLT", d->step, &b, e);
+    return aug_buf_write(w, "MDLT", d->step, &b, e);
 }
 
 #define BAD(...) aug_err_set(e, AUG_EPAYLOAD, rec->index, rec->type, __VA_ARGS__)
@@ -92,7 +84,7 @@ static int write_updkm(aug_writer *w, const aug_update *u, aug_err *e)
     aug_buf_i32(&b, u->k);
     aug_buf_f64v(&b, u->EK, s * s);
     aug_buf_f64v(&b, u->EM, s * s);
-    return emit(w, "UPKM", u->step, &b, e);
+    return aug_buf_write(w, "UPKM", u->step, &b, e);
 }
 
 int aug_write_update(aug_writer *w, const aug_update *u, aug_err *e)
@@ -106,7 +98,7 @@ int aug_write_update(aug_writer *w, const aug_update *u, aug_err *e)
     aug_buf_i32v(&b, u->H, (size_t)u->m);
     aug_buf_f64v(&b, u->E, s * s);
     aug_buf_f64v(&b, u->df, s);
-    return emit(w, "UPDT", u->step, &b, e);
+    return aug_buf_write(w, "UPDT", u->step, &b, e);
 }
 
 int aug_read_update(const aug_rec *rec, aug_update *u, aug_err *e)
@@ -259,7 +251,7 @@ int aug_write_path(aug_writer *w, const aug_pathrec *p, aug_err *e)
     aug_buf_i32(&b, 0);
     aug_buf_i64(&b, p->nseg);
     aug_buf_f64v(&b, p->seg, (size_t)(p->nseg * 2 * p->dim));
-    return emit(w, "pATH", p->step, &b, e);
+    return aug_buf_write(w, "pATH", p->step, &b, e);
 }
 
 void aug_pathrec_free(aug_pathrec *p)

@@ -160,3 +160,11 @@ void aug_cur_name(aug_cur *c, char dst[64])
     if (get_le(c, dst, 64, 1)) dst[63] = 0;
     else dst[0] = 0;
 }
+
+int aug_buf_write(aug_writer *w, const char *type, int32_t step, aug_buf *b, aug_err *e)
+{
+    int rc = b->failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), type, "out of memory")
+                       : aug_write(w, type, step, b->p, b->len, e);
+    aug_buf_free(b);
+    return rc;
+}

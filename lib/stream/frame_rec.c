@@ -61,10 +61,7 @@ int aug_write_prov(aug_writer *w, int argc, char **argv, aug_err *e)
         aug_buf_put(&b, i == 0 ? "\n" : " ", 1);
         aug_buf_put(&b, argv[i], strlen(argv[i]));
     }
-    int rc = b.failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), "pROv", "out of memory")
-                      : aug_write(w, "pROv", AUG_NOSTEP, b.p, b.len, e);
-    aug_buf_free(&b);
-    return rc;
+    return aug_buf_write(w, "pROv", AUG_NOSTEP, &b, e);
 }
 
 int aug_read_prov(const aug_rec *rec, char **text, aug_err *e)

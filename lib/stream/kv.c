@@ -41,10 +41,7 @@ int aug_write_kv(aug_writer *w, const char *type, int32_t step, const aug_kv *kv
         aug_buf_put(&b, kv->key[i], 16);
         aug_buf_f64(&b, kv->val[i]);
     }
-    int rc = b.failed ? aug_err_set(e, AUG_ENOMEM, aug_writer_count(w), type, "out of memory")
-                      : aug_write(w, type, step, b.p, b.len, e);
-    aug_buf_free(&b);
-    return rc;
+    return aug_buf_write(w, type, step, &b, e);
 }
 
 int aug_read_kv(const aug_rec *rec, aug_kv *kv, aug_err *e)
