@@ -46,11 +46,12 @@ mesh_of() { # scene -> meshload arguments (empty: not available)
 }
 for sc in $SCENES; do
     args=$(mesh_of $sc) || { echo "dynamics.sh: $sc not available, skipped" >&2; continue; }
-    case $sc in organ_*) plane="random";; beam*) plane="0,1,0,2";; *) plane="1,0,0,0.5";; esac
+    # the cut enters at the free end and advances towards the support (bench/solve.sh)
+    case $sc in organ_*) plane="random" adv="";; beam*) plane="0,1,0,2" adv="--advance 0,0,-1";; *) plane="1,0,0,0.5" adv="--advance 0,0,-1";; esac
     $B/meshload $args > $T/m.aug 2> $T/err.txt || { echo "dynamics.sh: $sc: meshload failed: $(cat $T/err.txt)" >&2; continue; }
     for h in 0.016666666666666666 0.002; do
         $B/factor --dynamic $h --rayleigh 0.1,0.001 --no-cond $T/m.aug > $T/f.aug || { echo "dynamics.sh: $sc: factor failed" >&2; continue; }
-        $B/cut --plane $plane --per-step 1 --steps $STEPS --detached keep < $T/f.aug > $T/c.aug || { echo "dynamics.sh: $sc: cut failed" >&2; continue; }
+        $B/cut --plane $plane $adv --per-step 1 --steps $STEPS --detached keep < $T/f.aug > $T/c.aug || { echo "dynamics.sh: $sc: cut failed" >&2; continue; }
         $B/solve-aug --method $METHODS --frames $FRAMES --check --tol 1e-8 < $T/c.aug > $T/s.aug 2> $T/err.txt ||
             { echo "dynamics.sh: $sc h=$h: solve-aug failed: $(tail -1 $T/err.txt)" >&2; continue; }
         python3 bench/aug_kv.py --records $T/s.aug > $T/kv.txt
