@@ -239,9 +239,11 @@ static int index_set(ubuild *b)
 
 /* E += sign K_e on the element's free DOFs in Hbar (upper triangle), and
    lift -= K_e(:, j) v_j for its constrained DOFs j of value v_j (now: after
-   the step, else before; lift NULL: none) */
+   the step, else before; lift NULL: none), lift += be (the element's
+   body-force load, NULL: none) on its free DOFs: df carries fn - fo
+   (formats/stream.md 5.8) */
 static void add_element(ubuild *b, double *E, const int32_t *cc, int now, const double *K,
-                        double sign, double *lift)
+                        const double *be, double sign, double *lift)
 {
     int dim = b->dim, nd = b->nd;
     int64_t pos[AUG_MAX_EDOF], s = b->s;
@@ -266,37 +268,24 @@ static void add_element(ubuild *b, double *E, const int32_t *cc, int now, const 
                 if (fr[a]) lift[pos[a]] -= K[a + j * nd] * val[j];
         }
     }
+    for (int a = 0; be && lift && a < nd; a++)
+        if (fr[a] && pos[a] >= 0) lift[pos[a]] += be[a];
 }
 
-/* the element's body-force load be at its free DOFs of Hbar into f (fo before
-   the step, fn after: df carries fn - fo, formats/stream.md 5.8) */
-static void add_body(ubuild *b, const int32_t *cc, int now, const double *be, double *f)
-{
-    for (int a = 0; a < b->nv; a++)
-        for (int c = 0; c < b->dim; c++) {
-            int l = a * b->dim + c;
-            int32_t dof = cc[a] * b->dim + c;
-            int64_t g = aug_cut_index(b->A, b->nn0, b->map0, b->nfree0, cc[a], c);
-            if (be[l] == 0 || g < 0 || (now ? fixed_now(b, dof, NULL) : fixed_prev(b, dof, NULL))) continue;
-            int64_t p = hpos(b->h, b->m, b->nprev, g);
-            if (p >= 0) f[p] += be[l];
-        }
-}
-
-/* the element's matrices into E (statics: K with the lift; dynamics: A =
-   cM M + cK K into E, K with the lift into EK, M into EM) */
+/* the element's matrices into E (statics: K with the lift and the body-force
+   load be; dynamics: A = cM M + cK K into E, K with them into EK, M into EM) */
 static void add_matrices(ubuild *b, const int32_t *cc, int now, const double *K, const double *M,
-                         double sign, double *lift)
+                         const double *be, double sign, double *lift)
 {
     if (!b->dyn) {
-        add_element(b, b->E, cc, now, K, sign, lift);
+        add_element(b, b->E, cc, now, K, be, sign, lift);
         return;
     }
     double Ae[AUG_MAX_EMAT];
     for (int i = 0; i < b->nd * b->nd; i++) Ae[i] = b->dyn->cM * M[i] + b->dyn->cK * K[i];
-    add_element(b, b->E, cc, now, Ae, sign, NULL);
-    add_element(b, b->EK, cc, now, K, sign, lift);
-    add_element(b, b->EM, cc, now, M, sign, NULL);
+    add_element(b, b->E, cc, now, Ae, NULL, sign, NULL);
+    add_element(b, b->EK, cc, now, K, be, sign, lift);
+    add_element(b, b->EM, cc, now, M, NULL, sign, NULL);
 }
 
 /* -(K_t - [K_{t-1} 0; 0 0]) on Hbar: each element's stiffness (and mass)
@@ -314,8 +303,7 @@ static void stiffness_change(ubuild *b)
         double *mo = b->dyn ? Mo : NULL, *mn = b->dyn ? Mn : NULL;
         if (oc) {
             element(A, oc, A->mat[i], Ko, mo, lumped, bo);
-            add_matrices(b, oc, 0, Ko, mo, 1.0, b->fo);
-            add_body(b, oc, 0, bo, b->fo);
+            add_matrices(b, oc, 0, Ko, mo, bo, 1.0, b->fo);
         }
         if (oc && memcmp(oc, nc, (size_t)b->nv * sizeof *nc) == 0) {
             memcpy(Kn, Ko, sizeof Kn);
@@ -324,8 +312,7 @@ static void stiffness_change(ubuild *b)
         } else {
             element(A, nc, A->mat[i], Kn, mn, lumped, bn);
         }
-        add_matrices(b, nc, 1, Kn, mn, -1.0, b->fn);
-        add_body(b, nc, 1, bn, b->fn);
+        add_matrices(b, nc, 1, Kn, mn, bn, -1.0, b->fn);
     }
 }
 
