@@ -490,11 +490,13 @@ typedef struct aug_dynsim {
     int64_t nn, n, cap, ncap;
     int dim;
     double *u, *v, *acc, *du, *cval;   /* nodal (nn*dim); cval: prescribed value or NAN */
-    double *xu, *xv, *y, *zero;        /* matrix-numbered scratch (n) */
+    double *xu, *xv, *zero;            /* matrix-numbered scratch (n) */
+    double *Mv, *Ku;                   /* M_t v, K_t u of the state (n) ... */
+    int fresh;                         /* ... valid: no step since the last advance */
     int32_t *idof;                     /* matrix index -> DOF */
     int64_t *ep;                       /* node -> element incidence */
     int32_t *ei;
-    unsigned char *moving;             /* node holds a moving constrained DOF */
+    int32_t *elist, *estamp, stamp;    /* elements holding a moving constrained DOF */
     int32_t frame;
     double time, kinetic, potential, work;
 } aug_dynsim;

@@ -17,8 +17,8 @@ void aug_dynsim_free(aug_dynsim *d)
         aug_cutmat_free(&d->Mc, d->cm);
     }
     free(d->u), free(d->v), free(d->acc), free(d->du);
-    free(d->xu), free(d->xv), free(d->y), free(d->idof), free(d->cval);
-    free(d->ep), free(d->ei), free(d->moving), free(d->zero);
+    free(d->xu), free(d->xv), free(d->Mv), free(d->Ku), free(d->idof), free(d->cval);
+    free(d->ep), free(d->ei), free(d->zero), free(d->elist), free(d->estamp);
     memset(d, 0, sizeof *d);
 }
 
@@ -50,15 +50,12 @@ static int grow(aug_dynsim *d, int64_t nn, int dim, int64_t n)
             for (int64_t k = d->cap; k < c; k++) q[k] = 0;
             *a[i] = q;
         }
-        unsigned char *mv = aug_realloc(d->moving, (size_t)(c / dim + 1));
-        if (!mv) return -1;
-        d->moving = mv;
         d->cap = c;
     }
     if (n > d->ncap) {
         int64_t c = 2 * n;
-        double **a[] = {&d->xu, &d->xv, &d->y, &d->zero};
-        for (int i = 0; i < 4; i++) {
+        double **a[] = {&d->xu, &d->xv, &d->Mv, &d->Ku, &d->zero};
+        for (int i = 0; i < 5; i++) {
             double *q = aug_realloc(*a[i], (size_t)c * sizeof *q);
             if (!q) return -1;
             *a[i] = q;
@@ -96,9 +93,13 @@ static int renumber(aug_dynsim *d, const aug_replay *rp, aug_err *e)
                                (long long)i);
     for (int64_t k = 0; k < m->nn * dim; k++) d->cval[k] = NAN;
     for (int64_t k = 0; k < m->nfix; k++) d->cval[m->fix_dof[k]] = m->fix_val[k];
-    free(d->ep), free(d->ei);
+    free(d->ep), free(d->ei), free(d->elist), free(d->estamp);
     d->ep = NULL, d->ei = NULL;
-    if (aug_node_elements(m, &d->ep, &d->ei)) return NOMEM(e);
+    d->elist = aug_malloc((size_t)(m->ne + 1) * sizeof *d->elist);
+    d->estamp = aug_calloc((size_t)(m->ne + 1), sizeof *d->estamp);
+    d->stamp = 0;
+    if (!d->elist || !d->estamp || aug_node_elements(m, &d->ep, &d->ei)) return NOMEM(e);
+    d->fresh = 0; /* the products of the state are of the old matrices */
     d->nn = m->nn;
     d->dim = dim;
     return 0;
@@ -164,22 +165,21 @@ static void lift_moving(aug_dynsim *d, const aug_replay *rp, double *b)
     const aug_mesh *m = &rp->mesh;
     int dim = d->dim, nv = m->nv, nd = nv * dim;
     double h = d->p.h, g2 = aug_dynp_gamma(&d->p) * h * h;
-    int any = 0;
-    for (int64_t nd0 = 0; nd0 < m->nn; nd0++) {
-        unsigned char mv = 0;
-        for (int c = 0; c < dim; c++) {
-            int64_t k = nd0 * dim + c;
-            if (!isnan(d->cval[k]) && (d->cval[k] != d->u[k] || d->v[k] != 0)) mv = 1;
-        }
-        d->moving[nd0] = mv;
-        any |= mv;
+    /* the elements of the nodes of moving constrained DOFs, once each, in
+       increasing order (the summation order of a sweep over all elements) */
+    int64_t nel = 0;
+    d->stamp++;
+    for (int64_t k = 0; k < m->nfix; k++) {
+        int32_t dof = m->fix_dof[k];
+        if (d->cval[dof] == d->u[dof] && d->v[dof] == 0) continue;
+        for (int64_t t = d->ep[dof / dim]; t < d->ep[dof / dim + 1]; t++)
+            if (d->estamp[d->ei[t]] != d->stamp) d->estamp[d->ei[t]] = d->stamp, d->elist[nel++] = d->ei[t];
     }
-    if (!any) return;
-    for (int64_t el = 0; el < m->ne; el++) {
+    if (!nel) return;
+    qsort(d->elist, (size_t)nel, sizeof *d->elist, aug_cmp_i32);
+    for (int64_t q = 0; q < nel; q++) {
+        int64_t el = d->elist[q];
         const int32_t *cn = m->conn + el * nv;
-        int hit = 0;
-        for (int a = 0; a < nv; a++) hit |= d->moving[cn[a]];
-        if (!hit) continue;
         double Ke[AUG_MAX_EMAT], Me[AUG_MAX_EMAT];
         aug_elem_stiffness(m, el, Ke);
         aug_elem_mass(m, el, d->p.mass == 2, Me);
@@ -206,13 +206,15 @@ int aug_dynsim_rhs(aug_dynsim *d, const aug_replay *rp, double *b, aug_err *e)
     aug_err_clear(e);
     int64_t n = d->n;
     double h = d->p.h, g2 = aug_dynp_gamma(&d->p) * h * h;
-    for (int64_t i = 0; i < n; i++) d->xu[i] = d->u[d->idof[i]], d->xv[i] = d->v[d->idof[i]];
-    aug_cutmat_mult(&d->Mc, d->xv, b);
-    aug_cutmat_mult(&d->Kc, d->xu, d->y);
+    if (!d->fresh) { /* M v0, K u0: from the last advance, unless a step came since */
+        for (int64_t i = 0; i < n; i++) d->xu[i] = d->u[d->idof[i]], d->xv[i] = d->v[d->idof[i]];
+        aug_cutmat_mult(&d->Mc, d->xv, d->Mv);
+        aug_cutmat_mult(&d->Kc, d->xu, d->Ku);
+    }
     aug_cutmat_rhs(&d->Kc, d->du); /* f_t into du (scratch, nodal capacity >= n) */
     for (int64_t i = 0; i < n; i++) {
         int32_t k = d->idof[i];
-        b[i] = isnan(d->cval[k]) ? h * b[i] + g2 * (d->du[i] - d->y[i]) : d->cval[k] - d->u[k];
+        b[i] = isnan(d->cval[k]) ? h * d->Mv[i] + g2 * (d->du[i] - d->Ku[i]) : d->cval[k] - d->u[k];
     }
     lift_moving(d, rp, b);
     for (int64_t i = 0; i < n; i++)
@@ -245,16 +247,17 @@ int aug_dynsim_advance(aug_dynsim *d, const aug_replay *rp, const double *dx, au
     }
     d->frame++;
     d->time = d->frame * h;
-    /* energies over the free DOFs of the matrix: 1/2 v'Mv, 1/2 u'Ku, f'u */
+    /* energies over the free DOFs of the matrix: 1/2 v'Mv, 1/2 u'Ku, f'u; the
+       products are the next frame's right-hand side's too */
     for (int64_t i = 0; i < n; i++) d->xu[i] = d->u[d->idof[i]], d->xv[i] = d->v[d->idof[i]];
-    aug_cutmat_mult(&d->Mc, d->xv, d->y);
+    aug_cutmat_mult(&d->Mc, d->xv, d->Mv);
+    aug_cutmat_mult(&d->Kc, d->xu, d->Ku);
+    aug_cutmat_rhs(&d->Kc, d->du);
     double ke = 0, pe = 0, w = 0;
     for (int64_t i = 0; i < n; i++)
-        if (isnan(d->cval[d->idof[i]])) ke += d->xv[i] * d->y[i];
-    aug_cutmat_mult(&d->Kc, d->xu, d->y);
-    aug_cutmat_rhs(&d->Kc, d->du);
-    for (int64_t i = 0; i < n; i++)
-        if (isnan(d->cval[d->idof[i]])) pe += d->xu[i] * d->y[i], w += d->du[i] * d->xu[i];
+        if (isnan(d->cval[d->idof[i]]))
+            ke += d->xv[i] * d->Mv[i], pe += d->xu[i] * d->Ku[i], w += d->du[i] * d->xu[i];
     d->kinetic = 0.5 * ke, d->potential = 0.5 * pe, d->work = w;
+    d->fresh = 1;
     return 0;
 }
