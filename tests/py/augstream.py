@@ -148,10 +148,15 @@ def hex_volume(P):
 
 def measure(m, e):
     """signed volume (tet4, hex8) or area (tri3) of element e"""
-    P = [m["x"][i] for i in m["conn"][e]]
-    if m["nv"] == 8:
+    return corners_measure([m["x"][i] for i in m["conn"][e]])
+
+
+def corners_measure(P):
+    """signed volume (8 corners: hex8, 4: tet4) or area (3: tri3) of the element
+    with corners P"""
+    if len(P) == 8:
         return hex_volume(P)
-    if m["nv"] == 4:
+    if len(P) == 4:
         a = [P[1][k] - P[0][k] for k in range(3)]
         b = [P[2][k] - P[0][k] for k in range(3)]
         c = [P[3][k] - P[0][k] for k in range(3)]

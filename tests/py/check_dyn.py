@@ -50,16 +50,7 @@ def mass(P, dim, mat, lumped):
                 for i in range(3):
                     Me[x * 3 + i][y * 3 + i] = v
         return Me
-    if dim == 3:
-        a = [P[1][k] - P[0][k] for k in range(3)]
-        b = [P[2][k] - P[0][k] for k in range(3)]
-        c = [P[3][k] - P[0][k] for k in range(3)]
-        meas = abs(a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                   + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
-        w = rho * meas
-    else:
-        meas = abs((P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[2][0] - P[0][0]) * (P[1][1] - P[0][1])) / 2
-        w = rho * meas * t
+    w = rho * abs(augstream.corners_measure(P)) * (t if dim == 2 else 1.0)
     nv = dim + 1
     Me = [[0.0] * (nv * dim) for _ in range(nv * dim)]
     for x in range(nv):
@@ -109,15 +100,13 @@ def frame(p):
 
 def main():
     args = sys.argv[1:]
-    rel, efile, pfile = 1e-10, None, None
-    for opt in ("--rel", "--energy", "--momentum"):
+    rel, efile, pfile = cutsys.rel_option(args, 1e-10), None, None
+    for opt in ("--energy", "--momentum"):
         if opt in args:
             i = args.index(opt)
             val = args[i + 1]
             del args[i:i + 2]
-            if opt == "--rel":
-                rel = float(val)
-            elif opt == "--energy":
+            if opt == "--energy":
                 efile = open(val, "w")
             else:
                 pfile = open(val, "w")

@@ -248,14 +248,7 @@ class CutMesh:
         if not any(self.grav):
             return [0.0] * (len(conn) * self.dim)
         _, _, _, _, rho, t = self.mats[mat]
-        if self.dim == 3:
-            a = [P[1][k] - P[0][k] for k in range(3)]
-            b = [P[2][k] - P[0][k] for k in range(3)]
-            c = [P[3][k] - P[0][k] for k in range(3)]
-            meas = abs(a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                       + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
-        else:
-            meas = abs((P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[2][0] - P[0][0]) * (P[1][1] - P[0][1])) / 2 * t
+        meas = abs(augstream.corners_measure(P)) * (t if self.dim == 2 else 1.0)
         w = rho * meas / len(conn)
         return [w * self.grav[c] for _ in conn for c in range(self.dim)]
 

@@ -20,11 +20,7 @@ import cutsys  # noqa: E402
 
 def main():
     args = sys.argv[1:]
-    rel = 1e-9
-    if "--rel" in args:
-        i = args.index("--rel")
-        rel = float(args[i + 1])
-        del args[i:i + 2]
+    rel = cutsys.rel_option(args, 1e-9)
     if len(args) != 2:
         raise SystemExit(__doc__)
     g = [float(x) for x in args[0].split(",")]
@@ -50,14 +46,7 @@ def main():
     for e, conn in enumerate(cm.conn):
         P = [cm.x[v] for v in conn]
         mat = cm.mats[cm.mat[e]]
-        if dim == 3:
-            a = [P[1][k] - P[0][k] for k in range(3)]
-            b = [P[2][k] - P[0][k] for k in range(3)]
-            c = [P[3][k] - P[0][k] for k in range(3)]
-            vol = abs(a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                      + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
-        else:
-            vol = abs((P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[2][0] - P[0][0]) * (P[1][1] - P[0][1])) / 2 * mat[5]
+        vol = abs(augstream.corners_measure(P)) * (mat[5] if dim == 2 else 1.0)
         for v in conn:
             mass[v] += mat[4] * vol / len(conn)
             par[find(v)] = find(conn[0])
