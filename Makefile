@@ -107,7 +107,8 @@ ASAN_TOOLS := $(TOOLS:bin/%=$(B)/asan/bin/%)
 SCENES := $(B)/scenes/beam_h4.msh $(B)/scenes/beam_h16.msh $(B)/scenes/beam_h64.msh \
           $(B)/scenes/brick_n4.msh $(B)/scenes/brick_n8.msh $(B)/scenes/square.msh \
           $(B)/scenes/plank.msh $(B)/scenes/cube.msh $(B)/scenes/hexbrick_n2.msh \
-          $(B)/scenes/hexbrick_n4.msh
+          $(B)/scenes/hexbrick_n4.msh $(B)/scenes/cube_n4.msh $(B)/scenes/cube_n8.msh \
+          $(B)/scenes/steak.msh
 $(B)/scenes/beam_h%.msh: scenes/beam.geo
 	@mkdir -p $(dir $@)
 	gmsh -3 -setnumber h $* -format msh41 -v 0 -o $@ $< >/dev/null
@@ -123,6 +124,12 @@ $(B)/scenes/plank.msh: scenes/plank.geo
 $(B)/scenes/cube.msh: scenes/cube.geo
 	@mkdir -p $(dir $@)
 	gmsh -3 -format msh41 -v 0 -o $@ $< >/dev/null
+$(B)/scenes/steak.msh: scenes/steak.geo
+	@mkdir -p $(dir $@)
+	gmsh -3 -format msh41 -v 0 -o $@ $< >/dev/null
+$(B)/scenes/cube_n%.msh: scenes/cube.geo
+	@mkdir -p $(dir $@)
+	gmsh -3 -setnumber N $* -format msh41 -v 0 -o $@ $< >/dev/null
 $(B)/scenes/hexbrick_n%.msh: scenes/hexbrick.geo
 	@mkdir -p $(dir $@)
 	gmsh -3 -setnumber N $* -format msh41 -v 0 -o $@ $< >/dev/null

@@ -4,13 +4,15 @@
 // E = 6.0e9) and "soft" (z > 0.5, yellow, E = 1.0e9). The paper gives only
 // the moduli (in Pa) and the grid; side 1 (m), nu and rho are meshload's
 // defaults unless given. Fixed at z = 0 ("fixed"), the free top "top".
-//   gmsh -3 cube.geo
+//   gmsh -3 cube.geo   (-setnumber N 4: the same cube of N^3 hexes, N even,
+//   the small twin the modal tests use)
 //   meshload cube.msh --material hard:E=6e9 --material soft:E=1e9 --fix fixed
+If (!Exists(N)) N = 22; EndIf
 Point(1) = {0, 0, 0};
-l[] = Extrude {1, 0, 0} { Point{1}; Layers{22}; };
-s[] = Extrude {0, 1, 0} { Curve{l[1]}; Layers{22}; Recombine; };
-v1[] = Extrude {0, 0, 0.5} { Surface{s[1]}; Layers{11}; Recombine; };
-v2[] = Extrude {0, 0, 0.5} { Surface{v1[0]}; Layers{11}; Recombine; };
+l[] = Extrude {1, 0, 0} { Point{1}; Layers{N}; };
+s[] = Extrude {0, 1, 0} { Curve{l[1]}; Layers{N}; Recombine; };
+v1[] = Extrude {0, 0, 0.5} { Surface{s[1]}; Layers{N / 2}; Recombine; };
+v2[] = Extrude {0, 0, 0.5} { Surface{v1[0]}; Layers{N / 2}; Recombine; };
 Physical Surface("fixed", 1) = {s[1]};
 Physical Surface("top", 2) = {v2[0]};
 Physical Volume("hard", 3) = {v1[1]};

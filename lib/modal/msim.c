@@ -1,0 +1,639 @@
+/* The frame-by-frame simulation of paper 004: sub-domains (sec. 3), their
+   snapshots and switches (sec. 4.2, eqs. 4-14), the interface coupling
+   (sec. 4.3, eq. 15) and the cut steps (sec. 5.2). */
+#include <cblas.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "aug_msim.h"
+#include "aug_saddle.h"
+
+#define NOMEM(e) aug_err_set((e), AUG_ENOMEM, -1, "MODE", "out of memory")
+
+void aug_msim_opts_default(aug_msim_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->split = 1;
+    o->reduce_all = 1;
+    o->rank = 32;
+    o->svd_tol = 1e-8;
+    o->tau_svd = 0.95;
+    o->err_tol = 0.01;
+    o->acc_tol = 0.01;
+    o->min_snap = 4;
+    o->probes = 4;
+    o->coupling = AUG_COUPLE_DIRECT;
+    o->tol = 1e-10;
+    o->maxit = 20000;
+    o->seed = 1;
+}
+
+static int may_reduce(const aug_msim *s, int d)
+{
+    if (s->o.reduce_none) return 0;
+    if (s->o.reduce_all) return 1;
+    for (int i = 0; i < s->o.nreduce; i++)
+        if (s->o.reduce[i] == d) return 1;
+    return 0;
+}
+
+/* owner[node] = the lowest domain holding it, ownloc its local index there */
+static int owners(aug_msim *s, const aug_mesh *m, aug_err *e)
+{
+    free(s->owner);
+    free(s->ownloc);
+    s->owner = malloc((size_t)(m->nn + 1) * sizeof *s->owner);
+    s->ownloc = malloc((size_t)(m->nn + 1) * sizeof *s->ownloc);
+    if (!s->owner || !s->ownloc) return NOMEM(e);
+    for (int64_t i = 0; i < m->nn; i++) s->owner[i] = -1;
+    for (int64_t el = 0; el < m->ne; el++)
+        for (int j = 0; j < m->nv; j++) {
+            int32_t nd = m->conn[el * m->nv + j];
+            if (s->owner[nd] < 0 || s->edom[el] < s->owner[nd]) s->owner[nd] = s->edom[el];
+        }
+    return 0;
+}
+
+static void locate_owners(aug_msim *s)
+{
+    for (int64_t i = 0; i < s->nn; i++) s->ownloc[i] = -1;
+    for (int di = s->nd - 1; di >= 0; di--)
+        for (int64_t l = 0; l < s->d[di].nn; l++) {
+            int32_t g = s->d[di].nodes[l];
+            if (s->owner[g] == di) s->ownloc[g] = (int32_t)l;
+        }
+}
+
+/* interface rows (eq. 15 with C selecting pairs): for every free component
+   of a node held by several domains, each copy but the master minus the
+   master; the master is the first reduced copy, else the first copy */
+static int rows(aug_msim *s, aug_err *e)
+{
+    int dim = s->dim;
+    int64_t nn = s->nn;
+    int64_t *cnt = calloc((size_t)nn + 1, sizeof *cnt);
+    if (!cnt) return NOMEM(e);
+    for (int di = 0; di < s->nd; di++)
+        for (int64_t l = 0; l < s->d[di].nn; l++) cnt[s->d[di].nodes[l] + 1]++;
+    for (int64_t i = 0; i < nn; i++) cnt[i + 1] += cnt[i];
+    int64_t tot = cnt[nn];
+    int32_t *cd = malloc((size_t)(tot + 1) * sizeof *cd), *cl = malloc((size_t)(tot + 1) * sizeof *cl);
+    int64_t *fill = malloc((size_t)(nn + 1) * sizeof *fill);
+    if (!cd || !cl || !fill) {
+        free(cnt), free(cd), free(cl), free(fill);
+        return NOMEM(e);
+    }
+    memcpy(fill, cnt, (size_t)nn * sizeof *fill);
+    for (int di = 0; di < s->nd; di++)
+        for (int64_t l = 0; l < s->d[di].nn; l++) {
+            int32_t g = s->d[di].nodes[l];
+            cd[fill[g]] = di, cl[fill[g]++] = (int32_t)l;
+        }
+    s->m = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        int64_t m = 0;
+        for (int64_t g = 0; g < nn; g++) {
+            int64_t a = cnt[g], b = cnt[g + 1];
+            if (b - a < 2) continue;
+            int64_t mst = a;
+            for (int64_t q = a; q < b; q++)
+                if (s->d[cd[q]].mode == AUG_MD_RED) {
+                    mst = q;
+                    break;
+                }
+            for (int c = 0; c < dim; c++) {
+                const aug_mdomain *M = &s->d[cd[mst]];
+                int32_t im = M->map[(int64_t)cl[mst] * dim + c];
+                if (im < 0) continue; /* constrained: every copy at the same value */
+                for (int64_t q = a; q < b; q++) {
+                    if (q == mst) continue;
+                    if (pass) {
+                        const aug_mdomain *S = &s->d[cd[q]];
+                        s->ca[m] = cd[q], s->cb[m] = cd[mst];
+                        s->cia[m] = S->map[(int64_t)cl[q] * dim + c], s->cib[m] = im;
+                        s->cdof[m] = (int32_t)(g * dim + c);
+                    }
+                    m++;
+                }
+            }
+        }
+        if (!pass && m > s->mcap) {
+            s->mcap = 2 * m + 16;
+            int32_t **v[] = {&s->ca, &s->cb, &s->cdof, &s->cia, &s->cib};
+            for (int i = 0; i < 5; i++) {
+                free(*v[i]);
+                if (!(*v[i] = malloc((size_t)s->mcap * sizeof(int32_t)))) {
+                    free(cnt), free(cd), free(cl), free(fill);
+                    return NOMEM(e);
+                }
+            }
+        }
+        s->m = m;
+    }
+    free(cnt), free(cd), free(cl), free(fill);
+    return 0;
+}
+
+static int basis_start(aug_msim *s, aug_mdomain *d, aug_err *e)
+{
+    if (!may_reduce(s, d->id) || d->nf == 0) return 0;
+    int cap = s->o.basis == AUG_BASIS_IDENTITY ? (int)d->nf : s->o.rank;
+    if (cap > d->nf) cap = (int)d->nf;
+    if (aug_isvd_init(&d->svd, d->nf, cap, 0, s->o.basis == AUG_BASIS_IDENTITY ? 0 : s->o.svd_tol, e))
+        return e->code;
+    d->have_svd = 1;
+    if (aug_galerkin_init(&d->gK, &d->svd, d->K, s->cm, e) || aug_galerkin_init(&d->gM, &d->svd, d->M, s->cm, e))
+        return e->code;
+    return 0;
+}
+
+static int add_snapshot(aug_msim *s, aug_mdomain *d, const double *x, aug_err *e)
+{
+    if (aug_isvd_add(&d->svd, x, e)) return e->code;
+    if (aug_galerkin_sync(&d->gK, &d->svd, d->K, s->cm, e)) return e->code;
+    return aug_galerkin_sync(&d->gM, &d->svd, d->M, s->cm, e);
+}
+
+/* W = I: the unit snapshots, then the switch (a check of the machinery:
+   the reduced domain must reproduce FE exactly) */
+static int identity_basis(aug_msim *s, aug_mdomain *d, aug_err *e)
+{
+    if (!d->have_svd) return 0;
+    if (d->nf > 3000)
+        return aug_err_set(e, AUG_EUSAGE, -1, "MODE", "--basis identity: domain %d has %lld free DOFs (at most 3000)",
+                           d->id, (long long)d->nf);
+    for (int64_t i = 0; i < d->nf; i++) {
+        memset(d->tmp, 0, (size_t)d->nf * sizeof *d->tmp);
+        d->tmp[i] = 1;
+        if (add_snapshot(s, d, d->tmp, e)) return e->code;
+    }
+    d->err_switch = 0;
+    return aug_mdomain_reduce(d, &s->p, 1000000000L, s->cm, e);
+}
+
+static int partition(aug_msim *s, const aug_mesh *m, aug_err *e)
+{
+    free(s->edom);
+    s->edom = malloc((size_t)(m->ne + 1) * sizeof *s->edom);
+    if (!s->edom) return NOMEM(e);
+    for (int64_t el = 0; el < m->ne; el++) s->edom[el] = aug_mpart_domain(&s->part, m, el);
+    return owners(s, m, e);
+}
+
+static int grow_global(aug_msim *s, int64_t nn, int dim)
+{
+    double **v[] = {&s->u, &s->v, &s->uw};
+    for (int i = 0; i < 3; i++) {
+        double *p = realloc(*v[i], (size_t)(nn * dim + 1) * sizeof *p);
+        if (!p) return -1;
+        for (int64_t k = s->nn * dim; k < nn * dim; k++) p[k] = 0;
+        *v[i] = p;
+    }
+    return 0;
+}
+
+/* the global nodal state from the owners' copies */
+static void gather(aug_msim *s)
+{
+    int dim = s->dim;
+    for (int64_t g = 0; g < s->nn; g++) {
+        if (s->owner[g] < 0) continue;
+        const aug_mdomain *d = &s->d[s->owner[g]];
+        int32_t l = s->ownloc[g];
+        for (int c = 0; c < dim; c++) s->u[g * dim + c] = d->u[l * dim + c], s->v[g * dim + c] = d->v[l * dim + c];
+    }
+}
+
+int aug_msim_init(aug_msim *s, const aug_msim_opts *o, const aug_dynp *p, const aug_mesh *m,
+                  const double *u0, const double *v0, cholmod_common *cm, aug_err *e)
+{
+    aug_err_clear(e);
+    memset(s, 0, sizeof *s);
+    s->o = *o, s->p = *p, s->cm = cm, s->dim = m->dim;
+    s->rng = o->seed ? o->seed : 1;
+    if (aug_mpart_init(&s->part, m, o->domains, o->split, e)) return e->code;
+    s->nd = s->part.nd;
+    for (int i = 0; i < o->nreduce; i++)
+        if (o->reduce[i] < 0 || o->reduce[i] >= s->nd)
+            return aug_err_set(e, AUG_EUSAGE, -1, "", "--reduce: no domain %d (domains 0..%d)", (int)o->reduce[i],
+                               s->nd - 1);
+    s->d = calloc((size_t)s->nd, sizeof *s->d);
+    if (!s->d || partition(s, m, e)) return e->code ? e->code : NOMEM(e);
+    if (grow_global(s, m->nn, m->dim)) return NOMEM(e);
+    s->nn = m->nn;
+    for (int64_t k = 0; k < m->nn * m->dim; k++) s->u[k] = u0 ? u0[k] : 0, s->v[k] = v0 ? v0[k] : 0;
+    for (int64_t t = 0; t < m->nfix && !u0; t++) s->u[m->fix_dof[t]] = m->fix_val[t];
+    for (int di = 0; di < s->nd; di++) {
+        aug_mdomain *d = &s->d[di];
+        if (aug_mdomain_build(d, di, m, s->edom, s->owner, p, cm, e)) return e->code;
+        for (int64_t l = 0; l < d->nn; l++)
+            for (int c = 0; c < m->dim; c++) {
+                d->u[l * m->dim + c] = s->u[(int64_t)d->nodes[l] * m->dim + c];
+                d->v[l * m->dim + c] = s->v[(int64_t)d->nodes[l] * m->dim + c];
+            }
+        if (basis_start(s, d, e)) return e->code;
+    }
+    locate_owners(s);
+    if (rows(s, e)) return e->code;
+    if (o->basis == AUG_BASIS_IDENTITY)
+        for (int di = 0; di < s->nd; di++)
+            if (identity_basis(s, &s->d[di], e)) return e->code;
+    if (aug_direct_new(&s->dir, e)) return e->code;
+    s->dirty = 1;
+    return 0;
+}
+
+void aug_msim_free(aug_msim *s)
+{
+    for (int di = 0; di < s->nd && s->d; di++) aug_mdomain_free(&s->d[di], s->cm);
+    free(s->d);
+    aug_direct_free(s->dir, s->cm);
+    if (s->sad) {
+        aug_saddle_free(s->sad);
+        free(s->sad);
+    }
+    if (s->C) cholmod_free_sparse(&s->C, s->cm);
+    free(s->blk), free(s->off), free(s->g), free(s->lam), free(s->x), free(s->rhs);
+    free(s->edom), free(s->owner), free(s->ownloc), free(s->u), free(s->v), free(s->uw), free(s->pwork);
+    free(s->ca), free(s->cb), free(s->cdof), free(s->cia), free(s->cib);
+    aug_mpart_free(&s->part);
+    memset(s, 0, sizeof *s);
+}
+
+/* ---- the saddle-point form for schur / ppcg (aug_saddle.h) ---- */
+
+/* blocks (FE: A over the free DOFs; reduced: A_r) and C = e_slave - e_master
+   over the blocks' unknowns (reduced copies through their basis rows) */
+static int saddle_build(aug_msim *s, aug_err *e)
+{
+    cholmod_common *cm = s->cm;
+    free(s->blk), free(s->off);
+    s->blk = calloc((size_t)s->nd + 1, sizeof *s->blk);
+    s->off = calloc((size_t)s->nd + 1, sizeof *s->off);
+    if (!s->blk || !s->off) return NOMEM(e);
+    int64_t N = 0;
+    size_t nz = 0;
+    for (int di = 0; di < s->nd; di++) {
+        aug_mdomain *d = &s->d[di];
+        s->off[di] = N;
+        aug_sblock *b = &s->blk[di];
+        b->version = d->version;
+        if (d->mode == AUG_MD_FE) {
+            b->n = d->nf, b->A = d->A;
+        } else {
+            b->n = d->r, b->Ad = d->Ar;
+        }
+        N += b->n;
+    }
+    s->off[s->nd] = N;
+    s->N = N;
+    for (int64_t k = 0; k < s->m; k++)
+        nz += (s->d[s->ca[k]].mode == AUG_MD_RED ? s->d[s->ca[k]].r : 1) +
+              (s->d[s->cb[k]].mode == AUG_MD_RED ? s->d[s->cb[k]].r : 1);
+    cholmod_triplet *T = cholmod_allocate_triplet(s->m, N, nz + 1, 0, CHOLMOD_REAL, cm);
+    if (!T) return NOMEM(e);
+    int32_t *Ti = T->i, *Tj = T->j;
+    double *Tx = T->x;
+    size_t q = 0;
+    for (int64_t k = 0; k < s->m; k++)
+        for (int side = 0; side < 2; side++) {
+            const aug_mdomain *d = &s->d[side ? s->cb[k] : s->ca[k]];
+            int32_t i = side ? s->cib[k] : s->cia[k];
+            double sg = side ? -1 : 1;
+            if (d->mode == AUG_MD_FE) {
+                Ti[q] = (int32_t)k, Tj[q] = (int32_t)(s->off[d->id] + i), Tx[q++] = sg;
+            } else {
+                for (int j = 0; j < d->r; j++)
+                    Ti[q] = (int32_t)k, Tj[q] = (int32_t)(s->off[d->id] + j), Tx[q++] = sg * d->W[i + (size_t)j * d->nf];
+            }
+        }
+    T->nnz = q;
+    if (s->C) cholmod_free_sparse(&s->C, cm);
+    s->C = cholmod_triplet_to_sparse(T, q, cm);
+    cholmod_free_triplet(&T, cm);
+    if (!s->C) return NOMEM(e);
+    if (N + s->m > s->xcap) {
+        s->xcap = 2 * (N + s->m) + 16;
+        free(s->g), free(s->lam), free(s->x), free(s->rhs);
+        s->g = calloc((size_t)s->xcap, sizeof *s->g);
+        s->lam = calloc((size_t)s->xcap, sizeof *s->lam);
+        s->x = calloc((size_t)s->xcap, sizeof *s->x);
+        s->rhs = calloc((size_t)s->xcap, sizeof *s->rhs);
+        if (!s->g || !s->lam || !s->x || !s->rhs) return NOMEM(e);
+    }
+    if (!s->sad) {
+        s->sad = calloc(1, sizeof *s->sad);
+        if (!s->sad || aug_saddle_init(s->sad, cm, e)) return e->code ? e->code : NOMEM(e);
+    }
+    return aug_saddle_set(s->sad, s->nd, s->blk, s->C, 1, e);
+}
+
+static int saddle_solve(aug_msim *s, aug_err *e)
+{
+    for (int di = 0; di < s->nd; di++) {
+        const aug_mdomain *d = &s->d[di];
+        memcpy(s->rhs + s->off[di], d->mode == AUG_MD_FE ? d->b : d->br, (size_t)s->blk[di].n * sizeof *s->rhs);
+    }
+    for (int64_t k = 0; k < s->m; k++)
+        s->g[k] = aug_mdomain_value(&s->d[s->cb[k]], s->cib[k]) - aug_mdomain_value(&s->d[s->ca[k]], s->cia[k]);
+    aug_saddle_stats st;
+    memset(&st, 0, sizeof st);
+    int rc = s->o.coupling == AUG_COUPLE_SCHUR
+                 ? aug_saddle_schur(s->sad, s->rhs, s->g, s->x, s->lam, &st, e)
+                 : aug_saddle_ppcg(s->sad, s->rhs, s->g, s->x, s->lam, s->o.tol, s->o.maxit, 0, &st, e);
+    if (rc) return rc;
+    s->iters = st.iters, s->converged = st.converged, s->relres = st.relres, s->rank_c = st.rank;
+    for (int di = 0; di < s->nd; di++) {
+        aug_mdomain *d = &s->d[di];
+        memcpy(d->mode == AUG_MD_FE ? d->du : d->dq, s->x + s->off[di], (size_t)s->blk[di].n * sizeof(double));
+    }
+    return 0;
+}
+
+/* ---- the frame ---- */
+
+static double frame_gap(const aug_msim *s)
+{
+    double g2 = 0;
+    for (int64_t k = 0; k < s->m; k++) {
+        double g = aug_mdomain_value(&s->d[s->cb[k]], s->cib[k]) - aug_mdomain_value(&s->d[s->ca[k]], s->cia[k]);
+        g2 += g * g;
+    }
+    return sqrt(g2);
+}
+
+/* eqs. 12-14 after the frame: an FE domain's state u is measured against the
+   basis before its snapshot (exact: Brand's residual, eq. 13; estimate: eq. 14
+   by random probes), then added. Paper 004 assumes the reduced error grows
+   linearly and allows s = floor(tau_acc / ||Error||) reduced frames; we
+   measure the growth rate: the part of the frame's increment du outside the
+   basis, drift = ||du - UU'du|| / ||u||, so that after s frames the error is
+   about err + s drift <= acc_tol: s = floor((acc_tol - err) / drift). The
+   switch when the singular-value ratio passes tau_svd, the gated error is below
+   err_tol and the budget is at least min_snap frames (a shorter stay does not
+   pay its switches). A reduced domain spends its budget and returns to FE. */
+static int switching(aug_msim *s, aug_mdomain *d, aug_err *e)
+{
+    if (d->mode == AUG_MD_RED) {
+        if (--d->budget <= 0) {
+            aug_mdomain_unreduce(d);
+            d->since = 0;
+            s->dirty = 1, s->events++;
+        }
+        return 0;
+    }
+    if (!d->have_svd) return 0;
+    int64_t need = d->nf + 2 * (int64_t)d->svd.qcap + d->svd.rmax + 1;
+    if (need > s->pwcap) {
+        free(s->pwork);
+        if (!(s->pwork = malloc((size_t)need * sizeof *s->pwork))) return NOMEM(e);
+        s->pwcap = need;
+    }
+    for (int64_t i = 0; i < d->nf; i++) d->uf[i] = d->u[d->free_dof[i]];
+    double un = cblas_dnrm2((int)d->nf, d->uf, 1), dn = cblas_dnrm2((int)d->nf, d->du, 1);
+    d->last_est = NAN;
+    d->last_drift = INFINITY;
+    if (d->svd.r > 0 && un > 0) {
+        d->last_drift = aug_proj_err(&d->svd, d->du, s->pwork) * dn / un;
+        if (s->o.probes > 0) {
+            d->last_est = aug_proj_err_estimate(&d->svd, d->uf, s->o.probes < d->nf ? s->o.probes : (int)d->nf,
+                                                &s->rng, e);
+            if (d->last_est < 0) return e->code;
+        }
+    }
+    if (add_snapshot(s, d, d->uf, e)) return e->code;
+    d->since++;
+    d->last_err = un > 0 ? d->svd.resid / un : 0;
+    d->last_ratio = d->svd.ratio;
+    double gate = s->o.gate_estimate ? d->last_est : d->last_err;
+    if (d->since < s->o.min_snap || !(un > 0) || d->svd.r < 1 || !(d->last_ratio > s->o.tau_svd) ||
+        !(gate < s->o.err_tol))
+        return 0;
+    double left = s->o.acc_tol - d->last_err, b = d->last_drift > 0 ? floor(left / d->last_drift) : 1e9;
+    if (!(b >= s->o.min_snap)) return 0;
+    d->err_switch = d->last_err;
+    if (aug_mdomain_reduce(d, &s->p, b > 1e9 ? 1000000000L : (long)b, s->cm, e)) return e->code;
+    s->dirty = 1, s->events++;
+    return 0;
+}
+
+int aug_msim_frame(aug_msim *s, const aug_mesh *m, aug_err *e)
+{
+    aug_err_clear(e);
+    s->events = s->step_events;
+    s->step_events = 0;
+    for (int di = 0; di < s->nd; di++)
+        if (!s->d[di].rebuilt) s->d[di].switched = 0;
+    double t0 = aug_now();
+    for (int di = 0; di < s->nd; di++)
+        if (aug_mdomain_rhs(&s->d[di], &s->p, m, s->cm, e)) return e->code;
+    double t1 = aug_now();
+    s->t_build = 0;
+    if (s->dirty) {
+        if (rows(s, e)) return e->code;
+        int rc = s->o.coupling == AUG_COUPLE_DIRECT ? aug_direct_build(s->dir, s, e) : saddle_build(s, e);
+        if (rc) return rc;
+        s->dirty = 0;
+        s->t_build = aug_now() - t1;
+    }
+    double t2 = aug_now();
+    s->iters = 0, s->converged = 1, s->relres = NAN, s->rank_c = -1;
+    if (s->o.coupling == AUG_COUPLE_DIRECT) {
+        if (aug_direct_solve(s->dir, s, e)) return e->code;
+        s->nsys = aug_direct_size(s->dir);
+    } else {
+        if (saddle_solve(s, e)) return e->code;
+        s->nsys = s->N;
+    }
+    double t3 = aug_now();
+    for (int di = 0; di < s->nd; di++) aug_mdomain_advance(&s->d[di], &s->p, m);
+    gather(s);
+    s->gap = frame_gap(s);
+    double t4 = aug_now();
+    for (int di = 0; di < s->nd; di++)
+        if (switching(s, &s->d[di], e)) return e->code;
+    if (s->events) gather(s); /* a projected state */
+    for (int di = 0; di < s->nd; di++) s->d[di].rebuilt = 0;
+    s->frame++;
+    s->time = s->frame * s->p.h;
+    double t5 = aug_now();
+    s->t_rhs = t1 - t0, s->t_solve = t3 - t2, s->t_adv = t4 - t3, s->t_svd = t5 - t4;
+    return 0;
+}
+
+/* ---- cut steps ---- */
+
+/* resolve a new node to the node of the mesh before the step it descends from */
+static int64_t root(int64_t g, int64_t nn_old, const int32_t *parent)
+{
+    while (g >= nn_old) g = parent[g - nn_old];
+    return g;
+}
+
+/* the constraints (local DOF, value) and owner loads of domain d on m equal
+   those of its sub-mesh? */
+static int same_bc(const aug_mdomain *d, const aug_mesh *m, const int32_t *owner, const int32_t *loc)
+{
+    int dim = m->dim;
+    int64_t nf = 0, nl = 0;
+    for (int64_t t = 0; t < m->nfix; t++) {
+        int32_t l = loc[m->fix_dof[t] / dim];
+        if (l < 0) continue;
+        if (nf >= d->sub.nfix || d->sub.fix_dof[nf] != l * dim + m->fix_dof[t] % dim ||
+            d->sub.fix_val[nf] != m->fix_val[t])
+            return 0;
+        nf++;
+    }
+    for (int64_t t = 0; t < m->nload; t++) {
+        int32_t nd = m->load_dof[t] / dim;
+        if (owner[nd] != d->id) continue;
+        if (nl >= d->sub.nload || d->sub.load_dof[nl] != loc[nd] * dim + m->load_dof[t] % dim ||
+            d->sub.load_val[nl] != m->load_val[t])
+            return 0;
+        nl++;
+    }
+    return nf == d->sub.nfix && nl == d->sub.nload;
+}
+
+/* rebuild domain di on m: state and snapshots carried over (new nodes from
+   their parents), FE */
+static int rewire(aug_msim *s, int di, const aug_mesh *m, int64_t nn_old, const int32_t *parent, aug_err *e)
+{
+    aug_mdomain old = s->d[di], *d = &s->d[di];
+    int dim = m->dim;
+    if (aug_mdomain_build(d, di, m, s->edom, s->owner, &s->p, s->cm, e)) {
+        aug_mdomain_free(&old, s->cm);
+        return e->code;
+    }
+    int32_t *src = malloc((size_t)(d->nf + 1) * sizeof *src);
+    if (!src) return aug_mdomain_free(&old, s->cm), NOMEM(e);
+    for (int64_t l = 0; l < d->nn; l++) {
+        int64_t g = d->nodes[l], r = root(g, nn_old, parent);
+        /* the copy in the old domain of g itself, else of its root */
+        int64_t lo = -1;
+        const int32_t *hit = bsearch(&(int32_t){(int32_t)g}, old.nodes, (size_t)old.nn, sizeof *old.nodes, aug_cmp_i32);
+        if (!hit && r != g) hit = bsearch(&(int32_t){(int32_t)r}, old.nodes, (size_t)old.nn, sizeof *old.nodes, aug_cmp_i32);
+        if (hit) lo = hit - old.nodes;
+        for (int c = 0; c < dim; c++) {
+            int64_t k = l * dim + c;
+            d->u[k] = lo >= 0 ? old.u[lo * dim + c] : s->u[g * dim + c];
+            d->v[k] = lo >= 0 ? old.v[lo * dim + c] : s->v[g * dim + c];
+            if (d->map[k] >= 0) src[d->map[k]] = lo >= 0 ? old.map[lo * dim + c] : -1;
+        }
+    }
+    int rc = 0;
+    if (old.have_svd && d->nf > 0) {
+        d->svd = old.svd, d->have_svd = 1;
+        old.have_svd = 0;
+        aug_galerkin_free(&old.gK), aug_galerkin_free(&old.gM);
+        rc = aug_isvd_remap(&d->svd, d->nf, src, e);
+        if (!rc) rc = aug_galerkin_init(&d->gK, &d->svd, d->K, s->cm, e);
+        if (!rc) rc = aug_galerkin_init(&d->gM, &d->svd, d->M, s->cm, e);
+    } else if (!old.have_svd) {
+        rc = basis_start(s, d, e);
+    }
+    d->version = old.version + 1;
+    d->switched = old.mode == AUG_MD_RED ? -1 : 0;
+    d->rebuilt = 1;
+    free(src);
+    aug_mdomain_free(&old, s->cm);
+    return rc;
+}
+
+int aug_msim_step(aug_msim *s, const aug_mesh *m, int64_t nn_old, const int32_t *parent,
+                  const int32_t *chg, int64_t nchg, aug_err *e)
+{
+    aug_err_clear(e);
+    if (m->nn < s->nn || nn_old != s->nn)
+        return aug_err_set(e, AUG_EDATA, -1, "MDLT", "the mesh has %lld nodes, the simulation %lld", (long long)m->nn,
+                           (long long)s->nn);
+    if (grow_global(s, m->nn, m->dim)) return NOMEM(e);
+    for (int64_t g = nn_old; g < m->nn; g++) {
+        int64_t r = root(g, nn_old, parent);
+        for (int c = 0; c < m->dim; c++) s->u[g * m->dim + c] = s->u[r * m->dim + c], s->v[g * m->dim + c] = s->v[r * m->dim + c];
+    }
+    s->nn = m->nn;
+    if (partition(s, m, e)) return e->code;
+    unsigned char *hit = calloc((size_t)s->nd, 1);
+    int32_t *loc = malloc((size_t)(m->nn + 1) * sizeof *loc);
+    if (!hit || !loc) return free(hit), free(loc), NOMEM(e);
+    for (int64_t k = 0; k < nchg; k++)
+        if (chg[k] >= 0 && chg[k] < m->ne) hit[s->edom[chg[k]]] = 1;
+    for (int di = 0; di < s->nd; di++) {
+        if (hit[di]) continue;
+        aug_mdomain *d = &s->d[di];
+        for (int64_t i = 0; i < m->nn; i++) loc[i] = -1;
+        for (int64_t l = 0; l < d->nn; l++) loc[d->nodes[l]] = (int32_t)l;
+        hit[di] = !same_bc(d, m, s->owner, loc);
+    }
+    free(loc);
+    /* the reduced neighbours of a re-wired domain (an interface row with it
+       before the step) return to FE too, unless --keep-neighbours: their
+       subspace saw the old interface only */
+    unsigned char *nb = calloc((size_t)s->nd, 1);
+    if (!nb) return free(hit), NOMEM(e);
+    for (int64_t k = 0; k < s->m && !s->o.keep_neighbours; k++) {
+        if (hit[s->ca[k]]) nb[s->cb[k]] = 1;
+        if (hit[s->cb[k]]) nb[s->ca[k]] = 1;
+    }
+    int rc = 0;
+    for (int di = 0; di < s->nd && !rc; di++)
+        if (hit[di]) {
+            rc = rewire(s, di, m, nn_old, parent, e), s->step_events++;
+        } else if (nb[di] && s->d[di].mode == AUG_MD_RED) {
+            aug_mdomain_unreduce(&s->d[di]);
+            s->d[di].since = 0, s->d[di].rebuilt = 1, s->step_events++;
+        }
+    free(nb);
+    free(hit);
+    if (rc) return rc;
+    locate_owners(s);
+    gather(s);
+    s->dirty = 1;
+    return 0;
+}
+
+/* ---- figures ---- */
+
+void aug_msim_stats(const aug_msim *s, aug_kv *st, aug_kv *tm)
+{
+    aug_kv_init(st, "modal");
+    aug_kv_set(st, "frame", s->frame);
+    aug_kv_set(st, "time", s->time);
+    aug_kv_set(st, "domains", s->nd);
+    aug_kv_set(st, "n_sys", (double)s->nsys);
+    aug_kv_set(st, "rows", (double)s->m);
+    int nred = 0;
+    for (int di = 0; di < s->nd; di++) nred += s->d[di].mode == AUG_MD_RED;
+    aug_kv_set(st, "reduced", nred);
+    aug_kv_set(st, "events", s->events);
+    aug_kv_set(st, "gap", s->gap);
+    if (s->o.coupling == AUG_COUPLE_PPCG) {
+        aug_kv_set(st, "iters", s->iters);
+        aug_kv_set(st, "converged", s->converged);
+    }
+    if (s->o.coupling != AUG_COUPLE_DIRECT) {
+        aug_kv_set(st, "relres", s->relres);
+        aug_kv_set(st, "rank_c", s->rank_c);
+    }
+    /* per domain (as many as fit): state, size, rank, errors */
+    for (int di = 0; di < s->nd && st->n + 7 <= AUG_KV_MAX - 2; di++) {
+        const aug_mdomain *d = &s->d[di];
+        char k[32];
+        snprintf(k, sizeof k, "d%d_state", di), aug_kv_set(st, k, d->mode);
+        snprintf(k, sizeof k, "d%d_n", di), aug_kv_set(st, k, d->mode == AUG_MD_RED ? d->r : (double)d->nf);
+        snprintf(k, sizeof k, "d%d_rank", di), aug_kv_set(st, k, d->have_svd ? d->svd.r : 0);
+        snprintf(k, sizeof k, "d%d_err", di), aug_kv_set(st, k, d->mode == AUG_MD_RED ? d->err_switch : d->last_err);
+        snprintf(k, sizeof k, "d%d_est", di), aug_kv_set(st, k, d->last_est);
+        snprintf(k, sizeof k, "d%d_drift", di), aug_kv_set(st, k, d->mode == AUG_MD_RED ? (double)d->budget : d->last_drift);
+        snprintf(k, sizeof k, "d%d_switch", di), aug_kv_set(st, k, d->switched);
+    }
+    aug_kv_init(tm, "modal");
+    aug_kv_set(tm, "frame", s->frame);
+    aug_kv_set(tm, "time_ms", 1e3 * (s->t_rhs + s->t_build + s->t_solve + s->t_adv + s->t_svd));
+    aug_kv_set(tm, "rhs_ms", 1e3 * s->t_rhs);
+    aug_kv_set(tm, "build_ms", 1e3 * s->t_build);
+    aug_kv_set(tm, "solve_ms", 1e3 * s->t_solve);
+    aug_kv_set(tm, "advance_ms", 1e3 * s->t_adv);
+    aug_kv_set(tm, "svd_ms", 1e3 * s->t_svd);
+}
