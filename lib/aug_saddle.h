@@ -108,7 +108,9 @@ void aug_saddle_free(aug_saddle *s);
    unchanged keep their factorisation and, when the block's entries in the
    private rows are the same (rows may be renumbered) and it has no column in
    D, their Schur contribution. The compression and slave selection are
-   redone when C changes: O(nnz(C) + md nd min(md, nd) + k^2 nd). Checks sizes
+   redone when C or a block descriptor changes (a block's columns of C may
+   have): O(nnz(C) + md nd min(md, nd) + k^2 nd). On failure the state needs
+   a new successful set before the next solve. Checks sizes
    (AUG_EUSAGE) and diag(A_b) > 0 (AUG_ESINGULAR); factorisations are done by
    the first aug_saddle_schur that needs them. */
 int aug_saddle_set(aug_saddle *s, int nb, const aug_sblock *b, cholmod_sparse *C, int c_changed,
@@ -117,7 +119,8 @@ int aug_saddle_set(aug_saddle *s, int nb, const aug_sblock *b, cholmod_sparse *C
    (dense mc x mc; per-block contributions cached; FE blocks by chunked
    multi-right-hand-side CHOLMOD solves over the block's rows of C_c), dense
    Cholesky of S, mu = S^-1 (C_c A^-1 r - g_c), x = A^-1 (r - C_c' mu).
-   Per solve after the first: two solves per block, O(nnz(C) + mc^2).
+   Per solve after the first: two solves per block, O(nnz(C) + mc^2) (and
+   one A apply for st->relres). g may be NULL (0); lambda (m) may be NULL.
    AUG_ESINGULAR when a block or S is not positive definite. */
 int aug_saddle_schur(aug_saddle *s, const double *r, const double *g, double *x, double *lambda,
                      aug_saddle_stats *st, aug_err *e);
@@ -126,7 +129,8 @@ int aug_saddle_schur(aug_saddle *s, const double *r, const double *g, double *x,
    constraint preconditioner P = [G C_c'; C_c 0], G = diag(A) except G11 = 0 on
    the slave unknowns (Schilders factorisation, Dollar, Gould, Schilders &
    Wathen, SIMAX 28 (2006)). warm = 0: start from x = 0, lambda = 0; warm = 1:
-   from the given x and lambda. Every iterate satisfies C_c x = g_c up to
+   from the given x and lambda (NULL: 0; x need not be feasible). g may be
+   NULL (0), lambda NULL when not wanted and warm = 0. Every iterate satisfies C_c x = g_c up to
    round-off. Stops at relres <= tol (checked on the true residual) or after
    maxit iterations: then x, lambda hold the last iterate, st->converged = 0
    and AUG_ENOCONV is returned. Per iteration: one A apply (sparse product

@@ -77,7 +77,7 @@ static int check_block(const aug_sblock *d, int b, aug_err *e)
 static int block_diag(aug_sblk *b, int ib, aug_err *e)
 {
     int64_t n = b->d.n;
-    double *dg = realloc(b->diag, (size_t)n * sizeof *dg);
+    double *dg = aug_realloc(b->diag, (size_t)n * sizeof *dg);
     if (!dg) return ERR(e, AUG_ENOMEM, "saddle: out of memory");
     b->diag = dg;
     if (b->d.A) {
@@ -108,10 +108,10 @@ static int classify(aug_saddle *s, aug_err *e)
     int64_t N = s->N;
     const int *Cp = C->p, *Ci = C->i;
     const double *Cx = C->x;
-    int *cnt = calloc((size_t)N + 1, sizeof *cnt);
-    int64_t *best = malloc(((size_t)m + 1) * sizeof *best);
-    int *pidx = malloc(((size_t)m + 1) * sizeof *pidx);
-    int *didx = malloc(((size_t)m + 1) * sizeof *didx);
+    int *cnt = aug_calloc((size_t)N + 1, sizeof *cnt);
+    int64_t *best = aug_malloc(((size_t)m + 1) * sizeof *best);
+    int *pidx = aug_malloc(((size_t)m + 1) * sizeof *pidx);
+    int *didx = aug_malloc(((size_t)m + 1) * sizeof *didx);
     if (!cnt || !best || !pidx || !didx) goto nomem;
     for (int64_t j = 0; j < N; j++)
         for (int q = Cp[j]; q < Cp[j + 1]; q++)
@@ -140,11 +140,11 @@ static int classify(aug_saddle *s, aug_err *e)
     }
     s->mp = mp;
     s->md = md;
-    s->prow = malloc(((size_t)mp + 1) * sizeof *s->prow);
-    s->pslave = malloc(((size_t)mp + 1) * sizeof *s->pslave);
-    s->pdiag = malloc(((size_t)mp + 1) * sizeof *s->pdiag);
-    s->pp = calloc((size_t)mp + 2, sizeof *s->pp);
-    s->drow = malloc(((size_t)md + 1) * sizeof *s->drow);
+    s->prow = aug_malloc(((size_t)mp + 1) * sizeof *s->prow);
+    s->pslave = aug_malloc(((size_t)mp + 1) * sizeof *s->pslave);
+    s->pdiag = aug_malloc(((size_t)mp + 1) * sizeof *s->pdiag);
+    s->pp = aug_calloc((size_t)mp + 2, sizeof *s->pp);
+    s->drow = aug_malloc(((size_t)md + 1) * sizeof *s->drow);
     if (!s->prow || !s->pslave || !s->pdiag || !s->pp || !s->drow) goto nomem;
     for (int i = 0; i < m; i++) {
         if (pidx[i] >= 0) {
@@ -163,12 +163,12 @@ static int classify(aug_saddle *s, aug_err *e)
             else cnt[j] = 1;
         }
     for (int i = 0; i < mp; i++) s->pp[i + 1] += s->pp[i];
-    s->pj = malloc(((size_t)s->pp[mp] + 1) * sizeof *s->pj);
-    s->px = malloc(((size_t)s->pp[mp] + 1) * sizeof *s->px);
+    s->pj = aug_malloc(((size_t)s->pp[mp] + 1) * sizeof *s->pj);
+    s->px = aug_malloc(((size_t)s->pp[mp] + 1) * sizeof *s->px);
     int nd = 0;
     for (int64_t j = 0; j < N; j++) nd += cnt[j];
     s->nd = nd;
-    s->dcol = malloc(((size_t)nd + 1) * sizeof *s->dcol);
+    s->dcol = aug_malloc(((size_t)nd + 1) * sizeof *s->dcol);
     if (!s->pj || !s->px || !s->dcol) goto nomem;
     int *fill = didx;  /* reused: fill pointers of the CSR rows (m >= mp) */
     for (int i = 0; i < mp; i++) fill[i] = s->pp[i];
@@ -204,13 +204,13 @@ static int compress_rows(aug_saddle *s, aug_err *e)
     const cholmod_sparse *C = s->C;
     const int *Cp = C->p, *Ci = C->i;
     const double *Cx = C->x;
-    double *CD = calloc((size_t)md * nd, sizeof *CD);
-    double *U = malloc((size_t)md * mn * sizeof *U);
-    double *VT = malloc((size_t)mn * nd * sizeof *VT);
-    double *sv = malloc((size_t)mn * sizeof *sv), *sb = malloc((size_t)mn * sizeof *sb);
-    int *dpos = malloc((size_t)s->m * sizeof *dpos);
-    int *jp = calloc((size_t)nd, sizeof *jp);
-    double *tau = malloc((size_t)mn * sizeof *tau);
+    double *CD = aug_calloc((size_t)md * nd, sizeof *CD);
+    double *U = aug_malloc((size_t)md * mn * sizeof *U);
+    double *VT = aug_malloc((size_t)mn * nd * sizeof *VT);
+    double *sv = aug_malloc((size_t)mn * sizeof *sv), *sb = aug_malloc((size_t)mn * sizeof *sb);
+    int *dpos = aug_malloc((size_t)s->m * sizeof *dpos);
+    int *jp = aug_calloc((size_t)nd, sizeof *jp);
+    double *tau = aug_malloc((size_t)mn * sizeof *tau);
     int rc = 0;
     if (!CD || !U || !VT || !sv || !sb || !dpos || !jp || !tau) {
         rc = ERR(e, AUG_ENOMEM, "saddle: out of memory");
@@ -231,11 +231,11 @@ static int compress_rows(aug_saddle *s, aug_err *e)
     while (k < mn && sv[k] > AUG_SADDLE_RTOL * sv[0]) k++;
     s->k = k;
     if (k == 0) goto out;
-    s->Uk = malloc((size_t)md * k * sizeof *s->Uk);
-    s->Ck = malloc((size_t)k * nd * sizeof *s->Ck);
-    s->dslave = malloc((size_t)k * sizeof *s->dslave);
-    s->Rq = malloc((size_t)k * k * sizeof *s->Rq);
-    s->Rr = calloc((size_t)k * k, sizeof *s->Rr);
+    s->Uk = aug_malloc((size_t)md * k * sizeof *s->Uk);
+    s->Ck = aug_malloc((size_t)k * nd * sizeof *s->Ck);
+    s->dslave = aug_malloc((size_t)k * sizeof *s->dslave);
+    s->Rq = aug_malloc((size_t)k * k * sizeof *s->Rq);
+    s->Rr = aug_calloc((size_t)k * k, sizeof *s->Rr);
     if (!s->Uk || !s->Ck || !s->dslave || !s->Rq || !s->Rr) {
         rc = ERR(e, AUG_ENOMEM, "saddle: out of memory");
         goto out;
@@ -267,17 +267,17 @@ out:
 static int slaves(aug_saddle *s, aug_err *e)
 {
     s->mc = s->mp + s->k;
-    s->slave_of = malloc(((size_t)s->N + 1) * sizeof *s->slave_of);
-    s->ginv = malloc(((size_t)s->N + 1) * sizeof *s->ginv);
+    s->slave_of = aug_malloc(((size_t)s->N + 1) * sizeof *s->slave_of);
+    s->ginv = aug_malloc(((size_t)s->N + 1) * sizeof *s->ginv);
     if (!s->slave_of || !s->ginv) return ERR(e, AUG_ENOMEM, "saddle: out of memory");
     for (int64_t j = 0; j < s->N; j++) s->slave_of[j] = -1;
     for (int i = 0; i < s->mp; i++) s->slave_of[s->pslave[i]] = i;
     for (int j = 0; j < s->k; j++) s->slave_of[s->dslave[j]] = s->mp + j;
     int nx = 0;
     for (int q = 0; s->pp && q < s->pp[s->mp]; q++) nx += s->slave_of[s->pj[q]] >= s->mp;
-    s->xi = malloc(((size_t)nx + 1) * sizeof *s->xi);
-    s->xj = malloc(((size_t)nx + 1) * sizeof *s->xj);
-    s->xv = malloc(((size_t)nx + 1) * sizeof *s->xv);
+    s->xi = aug_malloc(((size_t)nx + 1) * sizeof *s->xi);
+    s->xj = aug_malloc(((size_t)nx + 1) * sizeof *s->xj);
+    s->xv = aug_malloc(((size_t)nx + 1) * sizeof *s->xv);
     if (!s->xi || !s->xj || !s->xv) return ERR(e, AUG_ENOMEM, "saddle: out of memory");
     nx = 0;
     for (int i = 0; i < s->mp; i++)
@@ -327,8 +327,8 @@ static int block_rows(aug_saddle *s, aug_sblk *b, int keep, int *mark, int stamp
         for (int l = 0; l < s->nd; l++)
             if (s->dcol[l] >= lo && s->dcol[l] < hi) touches = s->k > 0;
         nr = np + (touches ? s->k : 0);
-        rows = malloc(((size_t)nr + 1) * sizeof *rows);
-        sp = malloc(((size_t)np + 1) * sizeof *sp);
+        rows = aug_malloc(((size_t)nr + 1) * sizeof *rows);
+        sp = aug_malloc(((size_t)np + 1) * sizeof *sp);
         if (!rows || !sp) goto nomem;
         int t = np, ns = 0;
         sp[0] = 0;
@@ -336,8 +336,8 @@ static int block_rows(aug_saddle *s, aug_sblk *b, int keep, int *mark, int stamp
             int pi = rows[r] = list[r];
             for (int q = s->pp[pi]; q < s->pp[pi + 1]; q++) ns += s->pj[q] >= lo && s->pj[q] < hi;
         }
-        sc = malloc(((size_t)ns + 1) * sizeof *sc);
-        sx = malloc(((size_t)ns + 1) * sizeof *sx);
+        sc = aug_malloc(((size_t)ns + 1) * sizeof *sc);
+        sx = aug_malloc(((size_t)ns + 1) * sizeof *sx);
         if (!sc || !sx) goto nomem;
         ns = 0;
         for (int r = 0; r < np; r++) {
@@ -376,12 +376,12 @@ static int grow_work(aug_saddle *s, aug_err *e)
 {
     size_t n = (size_t)s->N + 1, mm = (size_t)(s->m > s->mc ? s->m : s->mc) + 1;
     for (int i = 0; i < 8; i++) {
-        double *p = realloc(s->w[i], n * sizeof *p);
+        double *p = aug_realloc(s->w[i], n * sizeof *p);
         if (!p) return ERR(e, AUG_ENOMEM, "saddle: out of memory");
         s->w[i] = p;
     }
     for (int i = 0; i < 6; i++) {
-        double *p = realloc(s->u[i], mm * sizeof *p);
+        double *p = aug_realloc(s->u[i], mm * sizeof *p);
         if (!p) return ERR(e, AUG_ENOMEM, "saddle: out of memory");
         s->u[i] = p;
     }
@@ -407,7 +407,7 @@ int aug_saddle_set(aug_saddle *s, int nb, const aug_sblock *b, cholmod_sparse *C
                    "%lld columns (the sum of the block sizes), not %zu", (long long)N,
                    C ? C->ncol : 0);
     if (nb > s->nbcap) {
-        aug_sblk *nbk = realloc(s->blk, (size_t)nb * sizeof *nbk);
+        aug_sblk *nbk = aug_realloc(s->blk, (size_t)nb * sizeof *nbk);
         if (!nbk) return ERR(e, AUG_ENOMEM, "saddle: out of memory");
         memset(nbk + s->nbcap, 0, (size_t)(nb - s->nbcap) * sizeof *nbk);
         s->blk = nbk;
@@ -415,7 +415,7 @@ int aug_saddle_set(aug_saddle *s, int nb, const aug_sblock *b, cholmod_sparse *C
     }
     for (int i = nb; i < s->nbcap; i++) free_blk(&s->blk[i], s->cm);
     int changed = c_changed || C != s->C || nb != s->nb || N != s->N || !s->c_ok;
-    int *keep = malloc((size_t)nb * sizeof *keep);
+    int *keep = aug_malloc((size_t)nb * sizeof *keep);
     if (!keep) return ERR(e, AUG_ENOMEM, "saddle: out of memory");
     int64_t off = 0;
     for (int i = 0; i < nb; i++) {
@@ -449,7 +449,7 @@ int aug_saddle_set(aug_saddle *s, int nb, const aug_sblock *b, cholmod_sparse *C
     s->C = C;
     s->m = C ? (int)C->nrow : 0;
     int rc = 0;
-    int *mark = malloc((3 * (size_t)s->m + 1) * sizeof *mark);
+    int *mark = aug_malloc((3 * (size_t)s->m + 1) * sizeof *mark);
     if (!mark) rc = ERR(e, AUG_ENOMEM, "saddle: out of memory");
     if (!rc && C) rc = classify(s, e);
     if (!rc && C) rc = compress_rows(s, e);

@@ -27,7 +27,7 @@ static int factor_block(aug_saddle *s, aug_sblk *b, int ib, aug_err *e)
             return ERR(e, e->code, "saddle: block %d: %s", ib, msg);
         }
     } else {
-        double *Lc = realloc(b->Lc, (size_t)n * n * sizeof *Lc);
+        double *Lc = aug_realloc(b->Lc, (size_t)n * n * sizeof *Lc);
         if (!Lc) return ERR(e, AUG_ENOMEM, "saddle: out of memory");
         b->Lc = Lc;
         memcpy(Lc, b->d.Ad, (size_t)n * n * sizeof *Lc);
@@ -98,20 +98,20 @@ static int contrib_block(aug_saddle *s, aug_sblk *b, aug_err *e)
     }
     int cs = nr < RHS_CHUNK ? nr : RHS_CHUNK;
     /* local CSR of C_c,b */
-    int *lp = malloc(((size_t)nr + 1) * sizeof *lp);
+    int *lp = aug_malloc(((size_t)nr + 1) * sizeof *lp);
     int cap = n + s->nd + 1;
-    int *tc = malloc((size_t)cap * sizeof *tc);
-    double *tv = malloc((size_t)cap * sizeof *tv);
-    double *B = malloc((size_t)n * cs * sizeof *B);
-    b->Sb = malloc((size_t)nr * nr * sizeof *b->Sb);
+    int *tc = aug_malloc((size_t)cap * sizeof *tc);
+    double *tv = aug_malloc((size_t)cap * sizeof *tv);
+    double *B = aug_malloc((size_t)n * cs * sizeof *B);
+    b->Sb = aug_malloc((size_t)nr * nr * sizeof *b->Sb);
     int *lc = NULL;
     double *lv = NULL;
     int rc = 0;
     if (!lp || !tc || !tv || !B || !b->Sb) goto nomem;
     lp[0] = 0;
     for (int r = 0; r < nr; r++) lp[r + 1] = lp[r] + row_entries(s, b, b->rows[r], tc, tv);
-    lc = malloc(((size_t)lp[nr] + 1) * sizeof *lc);
-    lv = malloc(((size_t)lp[nr] + 1) * sizeof *lv);
+    lc = aug_malloc(((size_t)lp[nr] + 1) * sizeof *lc);
+    lv = aug_malloc(((size_t)lp[nr] + 1) * sizeof *lv);
     if (!lc || !lv) goto nomem;
     for (int r = 0; r < nr; r++) row_entries(s, b, b->rows[r], lc + lp[r], lv + lp[r]);
     for (int c0 = 0; c0 < nr; c0 += cs) {
@@ -158,7 +158,7 @@ static int prepare(aug_saddle *s, aug_err *e)
     }
     if (s->S_ok) return 0;
     int mc = s->mc;
-    double *S = realloc(s->S, ((size_t)mc * mc + 1) * sizeof *S);
+    double *S = aug_realloc(s->S, ((size_t)mc * mc + 1) * sizeof *S);
     if (!S) return ERR(e, AUG_ENOMEM, "saddle: out of memory");
     s->S = S;
     memset(S, 0, (size_t)mc * mc * sizeof *S);
@@ -209,7 +209,7 @@ int aug_saddle_schur(aug_saddle *s, const double *r, const double *g, double *x,
     for (int i = 0; i < mc; i++) mu[i] -= gc[i];
     if (mc > 0 && LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', mc, 1, s->S, mc, mu, mc))
         return ERR(e, AUG_EUSAGE, "saddle: dense solve failed");
-    for (int64_t j = 0; j < N; j++) x[j] = -0.0;
+    memset(x, 0, (size_t)N * sizeof *x);
     aug_saddle_cct(s, mu, x);
     for (int64_t j = 0; j < N; j++) x[j] = r[j] - x[j];
     if (apply_inv(s, x, e)) return e->code;

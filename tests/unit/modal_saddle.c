@@ -319,6 +319,15 @@ static void test_mixed(void)
     free(xr); free(lr); free(gt); free(x); free(l);
 }
 
+/* init, set and one Schur solve of the mixed system into x, l */
+static void first_solve(aug_saddle *s, const sys *S, double *x, double *l, aug_saddle_stats *st)
+{
+    aug_err e;
+    aug_saddle_init(s, &cm, &e);
+    aug_saddle_set(s, NB, S->blk, S->C, 1, &e);
+    aug_saddle_schur(s, S->r, S->g, x, l, st, &e);
+}
+
 /* a block's new version refactors that block only; contributions of FE
    blocks off the dependent rows survive a C re-analysis */
 static void test_versions(void)
@@ -331,9 +340,7 @@ static void test_versions(void)
     aug_saddle s;
     aug_err e;
     aug_saddle_stats st;
-    aug_saddle_init(&s, &cm, &e);
-    aug_saddle_set(&s, NB, S.blk, S.C, 1, &e);
-    aug_saddle_schur(&s, S.r, S.g, x0, l, &st, &e);
+    first_solve(&s, &S, x0, l, &st);
     int64_t f0 = st.nfactor, c0 = st.ncontrib;
     /* nothing changed */
     T_CHECK(!aug_saddle_set(&s, NB, S.blk, S.C, 0, &e), "set: %s", e.msg);
@@ -347,6 +354,33 @@ static void test_versions(void)
     T_CHECK(st.nfactor == f0 && st.ncontrib == c0 + 2, "C re-analysis: %lld factors %lld parts",
             (long long)(st.nfactor - f0), (long long)(st.ncontrib - c0));
     T_CHECK(relerr(x, x0, N) < 1e-14, "C re-analysis changed x by %g", relerr(x, x0, N));
+    /* C with a zero row on top (every row renumbered, the same entries):
+       FE parts kept, the same x, lambda shifted */
+    {
+        cholmod_sparse *C2 = NULL;
+        double *Cd2 = calloc((size_t)(m + 1) * N, sizeof *Cd2), *g2 = malloc((m + 1) * sizeof *g2);
+        double *l2 = malloc((m + 1) * sizeof *l2);
+        for (int j = 0; j < N; j++)
+            for (int i = 0; i < m; i++) Cd2[i + 1 + (size_t)j * (m + 1)] = S.Cd[i + (size_t)j * m];
+        g2[0] = 1;
+        memcpy(g2 + 1, S.g, m * sizeof *g2);
+        C2 = to_sparse(Cd2, m + 1, N);
+        T_CHECK(!aug_saddle_set(&s, NB, S.blk, C2, 1, &e), "set: %s", e.msg);
+        aug_saddle_schur(&s, S.r, g2, x, l2, &st, &e);
+        T_CHECK(st.nfactor == f0 && st.ncontrib == c0 + 4, "renumbered C: %lld factors %lld parts",
+                (long long)(st.nfactor - f0), (long long)(st.ncontrib - c0 - 2));
+        T_CHECK(relerr(x, x0, N) < 1e-13 && relerr(l2 + 1, l, m) < 1e-12 && fabs(l2[0]) < 1e-14,
+                "renumbered C: x %g lambda %g", relerr(x, x0, N), relerr(l2 + 1, l, m));
+        T_CHECK(fabs(st.gap - hypot(1, gap_of(&S, x, S.g))) < 1e-12, "gap with the zero row %g",
+                st.gap);
+        aug_saddle_set(&s, NB, S.blk, S.C, 1, &e);
+        aug_saddle_schur(&s, S.r, S.g, x, l, &st, &e);
+        T_CHECK(st.nfactor == f0 && st.ncontrib == c0 + 6 && relerr(x, x0, N) < 1e-13,
+                "back to C: %lld parts, x %g", (long long)(st.ncontrib - c0), relerr(x, x0, N));
+        c0 += 4;
+        cholmod_free_sparse(&C2, &cm);
+        free(Cd2); free(g2); free(l2);
+    }
     /* block 0 gets new values and version */
     cholmod_free_sparse(&S.A[0], &cm);
     S.A[0] = fe_block(nbs[0], S.Ab[0], 3.0);
@@ -401,9 +435,8 @@ static void test_m0(void)
 /* 2-D spring network on an nx x ny grid with a positive diagonal, split at
    column p into two FE blocks sharing that column (copies coupled by rows
    x0[i] - x1[i'] = 0): the coupled solution is the shared-DOF solution */
-static void test_shared_dof(void)
+static void shared_dof(int NX, int NY, int P)
 {
-    enum { NX = 9, NY = 6, P = 4 };
     int ng = NX * NY;
     double *K = calloc((size_t)ng * ng, sizeof *K), *f = malloc(ng * sizeof *f);
     int n0 = (P + 1) * NY, n1 = (NX - P) * NY, N = n0 + n1, m = NY;
@@ -488,6 +521,13 @@ static void test_shared_dof(void)
     free(K); free(f); free(K0); free(K1); free(r); free(Cd); free(g); free(x); free(l); free(u);
 }
 
+/* 6 interface rows, and 70 (more than one chunk of right-hand sides) */
+static void test_shared_dof(void)
+{
+    shared_dof(9, 6, 4);
+    shared_dof(6, 70, 2);
+}
+
 static void test_errors(void)
 {
     sys S;
@@ -542,6 +582,40 @@ static void test_errors(void)
     free(x); free(l); free(bad);
 }
 
+/* every allocation of the library failing in turn: AUG_ENOMEM or success,
+   never a crash or a leak (ASan build), and a later full run still exact */
+static void test_nomem(void)
+{
+    sys S;
+    sys_make(&S);
+    int N = S.N, m = S.m;
+    double *x = malloc(N * sizeof *x), *l = malloc(m * sizeof *l), *x0 = malloc(N * sizeof *x0);
+    aug_saddle s;
+    aug_err e;
+    aug_saddle_stats st;
+    first_solve(&s, &S, x0, l, &st);
+    aug_saddle_free(&s);
+    int ok = 0;
+    for (long k = 0; k < 2000 && !ok; k++) {
+        aug_saddle_init(&s, &cm, &e);
+        aug_fail_after(k);
+        int rc = aug_saddle_set(&s, NB, S.blk, S.C, 1, &e);
+        if (!rc) rc = aug_saddle_schur(&s, S.r, S.g, x, l, &st, &e);
+        if (!rc) rc = aug_saddle_ppcg(&s, S.r, S.g, x, l, 1e-12, 1000, 0, &st, &e);
+        aug_fail_after(-1);
+        T_CHECK(!rc || rc == AUG_ENOMEM, "failure %ld: %d %s", k, rc, e.msg);
+        ok = !rc;
+        /* the same state recovers */
+        rc = aug_saddle_set(&s, NB, S.blk, S.C, 1, &e);
+        if (!rc) rc = aug_saddle_schur(&s, S.r, S.g, x, l, &st, &e);
+        T_CHECK(!rc && relerr(x, x0, N) < 1e-12, "after failure %ld: %d %s", k, rc, e.msg);
+        aug_saddle_free(&s);
+    }
+    T_CHECK(ok, "never succeeded");
+    sys_free(&S);
+    free(x); free(l); free(x0);
+}
+
 int main(void)
 {
     aug_cholmod_start(&cm);
@@ -550,6 +624,7 @@ int main(void)
     T_RUN(test_m0);
     T_RUN(test_shared_dof);
     T_RUN(test_errors);
+    T_RUN(test_nomem);
     cholmod_finish(&cm);
     T_EXIT();
 }
