@@ -434,6 +434,7 @@ int aug_saddle_set(aug_saddle *s, int nb, const aug_sblock *b, cholmod_sparse *C
             if (block_diag(k, i, e)) {
                 k->have = 0;
                 free(keep);
+                free_canal(s);  /* no solve before the next good set */
                 return e->code;
             }
         }

@@ -565,6 +565,8 @@ static void test_errors(void)
     Ax[Ap[1] - 1] = -1;
     S.blk[1].version = 7;
     T_CHECK(aug_saddle_set(&s, NB, S.blk, S.C, 1, &e) == AUG_ESINGULAR, "negative diagonal: %d", e.code);
+    T_CHECK(aug_saddle_ppcg(&s, S.r, S.g, x, l, 1e-12, 10, 0, &st, &e) == AUG_EUSAGE,
+            "solve after a failed set: %d", e.code);
     /* an FE block with a positive diagonal that is not SPD: at the factorisation */
     Ax[Ap[1] - 1] = 1e-3;
     S.blk[1].version = 8;
