@@ -130,8 +130,8 @@ int aug_saddle_schur(aug_saddle *s, const double *r, const double *g, double *x,
    the slave unknowns (Schilders factorisation, Dollar, Gould, Schilders &
    Wathen, SIMAX 28 (2006)). warm = 0: start from x = 0, lambda = 0; warm = 1:
    from the given x and lambda (NULL: 0; x need not be feasible). g may be
-   NULL (0), lambda NULL when not wanted and warm = 0. Every iterate satisfies C_c x = g_c up to
-   round-off. Stops at relres <= tol (checked on the true residual) or after
+   NULL (0), lambda NULL when not wanted. Every iterate satisfies
+   C_c x = g_c up to round-off. Stops at relres <= tol (checked on the true residual) or after
    maxit iterations: then x, lambda hold the last iterate, st->converged = 0
    and AUG_ENOCONV is returned. Per iteration: one A apply (sparse product
    per FE block, dense symv per reduced block) and O(nnz(C) + k nd + k^2).
@@ -149,8 +149,8 @@ void aug_saddle_cct(const aug_saddle *s, const double *y, double *x);
 /* g_c (mc) from g (m); lambda (m) from mu (mc) and back (mu = T lambda) */
 void aug_saddle_compress(const aug_saddle *s, const double *g, double *gc);
 void aug_saddle_expand(const aug_saddle *s, const double *mu, double *lambda);
-/* stats->relres (compressed) and ->gap (original) of (x, mu); work: 2 w + 2 u
-   buffers of s are used (w[6], w[7], u[4], u[5]) */
+/* stats->relres (compressed) and ->gap (original) of (x, mu); uses the
+   workspaces w[6], u[4], u[5] of s (one A apply, O(nnz(C))) */
 int aug_saddle_residuals(aug_saddle *s, const double *r, const double *g, const double *gc,
                          const double *x, const double *mu, aug_saddle_stats *st, aug_err *e);
 
