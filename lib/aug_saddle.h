@@ -24,7 +24,12 @@
    and minimum-energy over the rest. lambda is returned in the original rows:
    lambda_P as solved, lambda_D = U_k mu (the minimum-norm multiplier with
    C' lambda = C_k' mu). */
-#define AUG_SADDLE_RTOL 1e-12
+/* 1e-8, not round-off: between two snapshot bases the interface rows have
+   singular values trailing off to 1e-12 and below (measured on the cube of
+   paper 004: 1, ..., 5.8e-5, 2.6e-12, 1.2e-14); a direction at s_i ~ 1e-12 s_1
+   is one the bases cannot follow without amplifying rounding by 1/s_i, and a
+   cut there would make the rank (and the frames) depend on the last bits. */
+#define AUG_SADDLE_RTOL 1e-8
 
 typedef struct aug_sblock {
     int64_t n;
