@@ -12,6 +12,10 @@
    24x24, tet4: 12x12, tri3 plane stress with thickness t: 6x6; at most
    AUG_MAX_EMAT entries), column-major, local dof order node*dim+c. */
 void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke);
+/* Shape-function gradients of element e, g[a*dim+c] = dN_a/dx_c: tet4 and tri3
+   the constant ones, hex8 at natural coordinates xi (NULL: the centre).
+   Returns det J (tet4: 6 V, tri3: 2 A, hex8: at xi). */
+double aug_elem_grad(const aug_mesh *m, int64_t e, const double *xi, double *g);
 /* Consistent load of the body force rho * m->grav (GRAV) on element e;
    0 (be zeroed) when the mesh has none. */
 int aug_elem_body(const aug_mesh *m, int64_t e, double *be);
