@@ -117,6 +117,11 @@ typedef struct aug_modes {
 } aug_modes;
 int aug_modes_lowest(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
                      double tol, aug_modes *r, cholmod_common *cm, aug_err *e);
+/* As aug_modes_lowest, and X (n x nev, column-major) the eigenvectors in the
+   order of lambda, M-orthonormal (X'MX = I; ARPACK dseupd with rvec = 1);
+   X NULL: eigenvalues only; unconverged: X all NAN. */
+int aug_modes_lowest_vec(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
+                         double tol, aug_modes *r, double *X, cholmod_common *cm, aug_err *e);
 
 /* fELD (field of one step): nodes == NULL means nodes 0..count-1 (not indexed).
    aug_read_field: *nodes is NULL when the record is not indexed; both malloc'd. */
