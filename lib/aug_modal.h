@@ -141,4 +141,28 @@ void aug_warp_matrix(const double w[3], double R[9]);
    out == u allowed); 2-D: the upper-left 2x2 block (rotation about z). */
 void aug_warp_apply(const double *w, const double *u, double *out, int64_t nn, int dim);
 
+/* ---- The MODE record (lib/modal/mode_rec.c, formats/stream.md 7.5) ----
+   One sub-domain's modal basis at a cut step (the record's step): kind 0
+   (AUG_MODE_SNAPSHOT) sigma = the singular values of its snapshot matrix
+   (descending, >= 0), phi = the orthonormal left singular vectors; kind 1
+   (AUG_MODE_LMA) sigma = the eigenvalues of K x = lambda M x (ascending),
+   phi = M-orthonormal modes. phi node-major over the listed nodes:
+   phi[j*count*dim + k*dim + c] (constrained DOFs 0). */
+enum { AUG_MODE_SNAPSHOT = 0, AUG_MODE_LMA = 1 };
+typedef struct aug_moderec {
+    int32_t domain, frame, dim, kind;
+    int64_t count;
+    int32_t r;
+    int32_t *nodes;   /* count, strictly increasing, >= 0 */
+    double *sigma;    /* r */
+    double *phi;      /* r*count*dim */
+} aug_moderec;
+/* Checks m as aug_read_mode does (AUG_EDATA naming the field), then writes. */
+int aug_write_mode(aug_writer *w, int32_t step, const aug_moderec *m, aug_err *e);
+/* Checks everything first (exact length, dim, kind, count >= 1,
+   1 <= r <= count*dim, increasing nodes, finite values, the sigma order and
+   sign of the kind), then fills m (malloc'd arrays; empty on error). */
+int aug_read_mode(const aug_rec *rec, aug_moderec *m, aug_err *e);
+void aug_moderec_free(aug_moderec *m);
+
 #endif

@@ -69,37 +69,23 @@ static void check_modes(aug_mesh *m, double cM, double cK, int nev)
     cholmod_free_factor(&L, &cm);
 }
 
-static void tet_static(void)
+enum { TET, HEX, TRI };
+
+/* the cantilever 3 x 1 x 1 (tri: 3 x 1), fixed at x = 0 */
+static void run_case(int kind, double cM, double cK, int nev)
 {
     aug_mesh m;
-    tm_box(&m, 6, 2, 2, 3, 1, 1, 2e3, 0.3);
-    check_modes(&m, 0, 1, 8);
+    if (kind == TET) tm_box(&m, 6, 2, 2, 3, 1, 1, 2e3, 0.3);
+    else if (kind == HEX) tm_hexbox(&m, 6, 2, 2, 3, 1, 1, 2e3, 0.3);
+    else tm_rect(&m, 10, 3, 3, 1, 2e3, 0.3, 0.5);
+    check_modes(&m, cM, cK, nev);
     aug_mesh_free(&m);
 }
 
-static void tet_dynamic(void)
-{
-    aug_mesh m;
-    tm_box(&m, 6, 2, 2, 3, 1, 1, 2e3, 0.3);
-    check_modes(&m, 4e2, 0.25, 6);
-    aug_mesh_free(&m);
-}
-
-static void hex_static(void)
-{
-    aug_mesh m;
-    tm_hexbox(&m, 6, 2, 2, 3, 1, 1, 2e3, 0.3);
-    check_modes(&m, 0, 1, 8);
-    aug_mesh_free(&m);
-}
-
-static void tri_dynamic(void)
-{
-    aug_mesh m;
-    tm_rect(&m, 10, 3, 3, 1, 2e3, 0.3, 0.5);
-    check_modes(&m, 1e3, 1.0, 5);
-    aug_mesh_free(&m);
-}
+static void tet_static(void) { run_case(TET, 0, 1, 8); }
+static void tet_dynamic(void) { run_case(TET, 4e2, 0.25, 6); }
+static void hex_static(void) { run_case(HEX, 0, 1, 8); }
+static void tri_dynamic(void) { run_case(TRI, 1e3, 1.0, 5); }
 
 int main(void)
 {
