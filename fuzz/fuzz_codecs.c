@@ -124,6 +124,7 @@ typedef struct step_obj {
     aug_pathrec p;
     aug_kv kv;
     aug_reaction q;
+    aug_moderec mode;
     const aug_mesh *m;
 } step_obj;
 
@@ -148,6 +149,11 @@ static int put_reaction(aug_writer *w, const void *o, aug_err *e)
 {
     const step_obj *s = o;
     return aug_write_reaction(w, s->step, &s->q, e);
+}
+static int put_mode(aug_writer *w, const void *o, aug_err *e)
+{
+    const step_obj *s = o;
+    return aug_write_mode(w, s->step, &s->mode, e);
 }
 static int put_kv(aug_writer *w, const void *o, aug_err *e)
 {
@@ -241,6 +247,8 @@ static void typed_step(const aug_rec *rec, const aug_mesh *m)
         if (!aug_read_path(rec, &s.p, &e)) roundtrip1("pATH", put_path, &s, rec->index % 2);
     } else if (is(rec, "rEAC")) {
         if (!aug_read_reaction(rec, &s.q, &e)) roundtrip1("rEAC", put_reaction, &s, rec->index % 2);
+    } else if (is(rec, "MODE")) {
+        if (!aug_read_mode(rec, &s.mode, &e)) roundtrip1("MODE", put_mode, &s, rec->index % 2);
     } else if (is(rec, "cOND") || is(rec, "sTAt") || is(rec, "tIMe") || is(rec, "qUAl")) {
         if (!aug_read_kv(rec, &s.kv, &e)) roundtrip1(rec->type, put_kv, &s, rec->index % 2);
     } else if (is(rec, "pROv") && !aug_read_prov(rec, &text, &e)) {
@@ -252,6 +260,7 @@ static void typed_step(const aug_rec *rec, const aug_mesh *m)
     aug_bdelta_free(&s.b);
     aug_pathrec_free(&s.p);
     aug_reaction_free(&s.q);
+    aug_moderec_free(&s.mode);
 }
 
 /* the payload through the check and dump of another record type whose length

@@ -12,6 +12,10 @@
    24x24, tet4: 12x12, tri3 plane stress with thickness t: 6x6; at most
    AUG_MAX_EMAT entries), column-major, local dof order node*dim+c. */
 void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke);
+/* Shape-function gradients of element e, g[a*dim+c] = dN_a/dx_c: tet4 and tri3
+   the constant ones, hex8 at natural coordinates xi (NULL: the centre).
+   Returns det J (tet4: 6 V, tri3: 2 A, hex8: at xi). */
+double aug_elem_grad(const aug_mesh *m, int64_t e, const double *xi, double *g);
 /* Consistent load of the body force rho * m->grav (GRAV) on element e;
    0 (be zeroed) when the mesh has none. */
 int aug_elem_body(const aug_mesh *m, int64_t e, double *be);
@@ -113,6 +117,11 @@ typedef struct aug_modes {
 } aug_modes;
 int aug_modes_lowest(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
                      double tol, aug_modes *r, cholmod_common *cm, aug_err *e);
+/* As aug_modes_lowest, and X (n x nev, column-major) the eigenvectors in the
+   order of lambda, M-orthonormal (X'MX = I; ARPACK dseupd with rvec = 1);
+   X NULL: eigenvalues only; unconverged: X all NAN. */
+int aug_modes_lowest_vec(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
+                         double tol, aug_modes *r, double *X, cholmod_common *cm, aug_err *e);
 
 /* fELD (field of one step): nodes == NULL means nodes 0..count-1 (not indexed).
    aug_read_field: *nodes is NULL when the record is not indexed; both malloc'd. */

@@ -7,6 +7,7 @@
 
 #include <cholmod.h>
 #include "aug_dyn.h"
+#include "aug_mesh.h"
 
 /* Incremental thin SVD X ~ U diag(S) V' of the snapshots seen so far (paper
    004 eqs. 4-11; Brand, LAA 415 (2006) sec. 3-4). The basis is kept in
@@ -115,5 +116,53 @@ void aug_basis_residual(const aug_basis *W, const double *u, double *res, double
    O(r^3). */
 int aug_reduced_step(const aug_dynp *p, int r, const double *Kr, const double *Mr,
                      const double *fr, double *q, double *qd, aug_err *e);
+
+/* ---- Modal warping (lib/modal/warp.c; paper 004 sec. 5.1, eqs. 16-17;
+   Mueller et al. 2002, Choi & Ko 2005) ---- */
+/* Per-node rotation vectors w_i = (1/2) curl u, the unweighted mean over the
+   listed elements around node i (elems NULL: all ne elements, nel ignored;
+   else nel of them) of each element's (1/2) curl: tet4 and tri3 from their
+   constant gradient, hex8 from the gradient at the element centre; 2-D:
+   w = (0, 0, (du_y/dx - du_x/dy) / 2). A linear u is reproduced exactly (for
+   u = theta n x X, w = theta n). Nodes in no listed element get w = 0.
+   u: nn*dim nodal displacements; w: nn*3. AUG_EUSAGE (listed element out of
+   range, nel < 0), AUG_ENOMEM. */
+int aug_warp_rotations(const aug_mesh *m, const int32_t *elems, int64_t nel, const double *u,
+                       double *w, aug_err *e);
+/* R~(w) of eq. 17, row-major 3x3: with t = |w|, W = [w]x,
+   R~ = I + W (1 - cos t) / t^2 + W^2 (t - sin t) / t^3
+   (eq. 17 as printed, with the unit w^ = w / t). Both coefficients by their
+   Taylor series for t < 2 (11 terms) and the closed forms above; relative
+   error of each coefficient a few ulps on both sides of t = 2 (measured in
+   tests/unit/modal_warp.c). For u = theta n x X, R~(theta n) u = R X - X
+   with R the finite rotation by theta about n, for every X (Rodrigues). */
+void aug_warp_matrix(const double w[3], double R[9]);
+/* eq. 16: out_i = R~(w_i) u_i for the nn nodes (w: nn*3, u, out: nn*dim;
+   out == u allowed); 2-D: the upper-left 2x2 block (rotation about z). */
+void aug_warp_apply(const double *w, const double *u, double *out, int64_t nn, int dim);
+
+/* ---- The MODE record (lib/modal/mode_rec.c, formats/stream.md 7.5) ----
+   One sub-domain's modal basis at a cut step (the record's step): kind 0
+   (AUG_MODE_SNAPSHOT) sigma = the singular values of its snapshot matrix
+   (descending, >= 0), phi = the orthonormal left singular vectors; kind 1
+   (AUG_MODE_LMA) sigma = the eigenvalues of K x = lambda M x (ascending),
+   phi = M-orthonormal modes. phi node-major over the listed nodes:
+   phi[j*count*dim + k*dim + c] (constrained DOFs 0). */
+enum { AUG_MODE_SNAPSHOT = 0, AUG_MODE_LMA = 1 };
+typedef struct aug_moderec {
+    int32_t domain, frame, dim, kind;
+    int64_t count;
+    int32_t r;
+    int32_t *nodes;   /* count, strictly increasing, >= 0 */
+    double *sigma;    /* r */
+    double *phi;      /* r*count*dim */
+} aug_moderec;
+/* Checks m as aug_read_mode does (AUG_EDATA naming the field), then writes. */
+int aug_write_mode(aug_writer *w, int32_t step, const aug_moderec *m, aug_err *e);
+/* Checks everything first (exact length, dim, kind, count >= 1,
+   1 <= r <= count*dim, increasing nodes, finite values, the sigma order and
+   sign of the kind), then fills m (malloc'd arrays; empty on error). */
+int aug_read_mode(const aug_rec *rec, aug_moderec *m, aug_err *e);
+void aug_moderec_free(aug_moderec *m);
 
 #endif

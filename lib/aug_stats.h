@@ -137,6 +137,12 @@ int aug_vtk_write(FILE *out, const aug_mesh *m, const double *u, const unsigned 
 /* As aug_vtk_write with a velocity array v too (NULL: none): a time frame. */
 int aug_vtk_write_uv(FILE *out, const aug_mesh *m, const double *u, const double *v,
                      const unsigned char *mask, aug_err *e);
+/* A MODE record's basis on m (the mesh of its step): field data sigma,
+   domain, frame, kind; point data mode_0 .. mode_{r-1} (dim components, 0 off
+   the domain) and in_domain (1 on its nodes). AUG_EDATA when its dim or
+   nodes do not fit m. */
+struct aug_moderec;
+int aug_vtk_write_modes(FILE *out, const aug_mesh *m, const struct aug_moderec *r, aug_err *e);
 /* path := the .vtu of step `step` of a summary read up to it (step limit >=
    step): its mesh and the displacement field of that very step, if any. File
    errors name the file (AUG_EIO, record -1); a file that failed is removed. */

@@ -86,7 +86,8 @@ typedef struct aug_codec {
     int (*check)(const struct aug_rec *rec, aug_err *e);
     int (*dump)(FILE *out, struct aug_mesh *m, const struct aug_rec *rec, aug_err *e);
 } aug_codec;
-extern const aug_codec aug_codec_head, aug_codec_prov, aug_codec_tail, aug_codec_mode;
+extern const aug_codec aug_codec_head, aug_codec_prov, aug_codec_tail;
+extern const aug_codec aug_codec_mode; /* lib/modal/mode_rec.c */
 extern const aug_codec aug_codec_node, aug_codec_matl, aug_codec_elem, aug_codec_nset,
     aug_codec_fixd, aug_codec_load, aug_codec_outs, aug_codec_grav;
 extern const aug_codec aug_codec_dofm, aug_codec_kmat, aug_codec_fvec, aug_codec_fact,

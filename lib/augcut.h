@@ -10,5 +10,6 @@
 #include "aug_solve.h"
 #include "aug_cut.h"
 #include "aug_refine.h"
+#include "aug_modal.h"
 #include "aug_stats.h"
 #endif

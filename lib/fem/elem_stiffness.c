@@ -98,3 +98,11 @@ void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke)
     }
     add_bdb(Ke, g, nv, d, lam, mu, w);
 }
+
+double aug_elem_grad(const aug_mesh *m, int64_t e, const double *xi, double *g)
+{
+    static const double centre[3] = {0, 0, 0};
+    double N[8];
+    if (m->etype == AUG_HEX8) return aug_hex_shape(m, e, xi ? xi : centre, N, g);
+    return m->dim == 3 ? tet_grad(m, e, g) : tri_grad(m, e, g);
+}

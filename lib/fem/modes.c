@@ -28,8 +28,10 @@ static void solve_F(mctx *c, double *x, double *y)
     if (aug_factor_apply_inv(c->L, x, y, &c->X, &c->Y, &c->E, c->cm)) c->failed = 1;
 }
 
-int aug_modes_lowest(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
-                     double tol, aug_modes *r, cholmod_common *cm, aug_err *e)
+/* dseupd with rvec = 1 when X is given: the Ritz vectors of mode 3 are
+   M-orthonormal, X'MX = I, in the order of lambda */
+int aug_modes_lowest_vec(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
+                         double tol, aug_modes *r, double *X, cholmod_common *cm, aug_err *e)
 {
     aug_err_clear(e);
     memset(r, 0, sizeof *r);
@@ -74,10 +76,11 @@ int aug_modes_lowest(cholmod_sparse *M, cholmod_factor *L, double cM, double cK,
     r->nev = nev;
     if (iparam[4] < nev) { /* not converged: no numbers */
         for (int i = 0; i < nev; i++) r->lambda[i] = NAN;
+        for (size_t i = 0; X && i < (size_t)n * nev; i++) X[i] = NAN;
         rc = 0;
         goto done;
     }
-    dseupd_c(0, "A", select, d, v, n, 0.0, "G", n, "LM", nev, tol, resid, ncv, v, n, iparam, ipntr,
+    dseupd_c(X != NULL, "A", select, d, X ? X : v, n, 0.0, "G", n, "LM", nev, tol, resid, ncv, v, n, iparam, ipntr,
              workd, workl, lworkl, &info);
     if (info != 0) {
         rc = aug_err_set(e, AUG_ENOCONV, -1, "cOND", "ARPACK dseupd failed (%d)", info);
@@ -94,4 +97,10 @@ done:
     cholmod_free_dense(&c.E, cm);
     free(c.t), free(select), free(resid), free(v), free(workd), free(workl), free(d);
     return rc;
+}
+
+int aug_modes_lowest(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
+                     double tol, aug_modes *r, cholmod_common *cm, aug_err *e)
+{
+    return aug_modes_lowest_vec(M, L, cM, cK, nev, tol, r, NULL, cm, e);
 }

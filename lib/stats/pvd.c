@@ -1,9 +1,11 @@
 /* ParaView time series (.pvd collection of one .vtu per step) of a stream's cut
    sequence; of a dynamic stream, one .vtu per time frame (fRAM, formats/stream.md
-   7.9) with displacement and velocity, timestep = the frame's time. */
+   7.9) with displacement and velocity, timestep = the frame's time; and of the
+   MODE records (7.5), NAME_modes.pvd with one .vtu per record. */
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include "aug_modal.h"
 #include "aug_stats.h"
 
 struct aug_pvd {
@@ -17,6 +19,11 @@ struct aug_pvd {
     size_t n, cap;
     int wrote_pvd;
     int frames;        /* a dynamic stream: the datasets are the fRAM frames */
+    char **mfile;      /* the MODE records' .vtu paths, */
+    double *mtime;     /* their frames */
+    int32_t *mdomain;  /* and domains */
+    size_t nm, capm;
+    int wrote_mpvd;
 };
 
 int aug_path_is_pvd(const char *path)
@@ -47,6 +54,15 @@ aug_pvd *aug_pvd_new(const char *path, aug_err *e)
     return p;
 }
 
+/* DIR/NAME_modes.pvd (malloc'd) */
+static char *modes_pvd(const aug_pvd *p)
+{
+    size_t len = p->stem + 16;
+    char *name = aug_malloc(len);
+    if (name) snprintf(name, len, "%.*s_modes.pvd", (int)p->stem, p->path);
+    return name;
+}
+
 void aug_pvd_free(aug_pvd *p, int discard)
 {
     if (!p) return;
@@ -55,6 +71,18 @@ void aug_pvd_free(aug_pvd *p, int discard)
         free(p->file[i]);
     }
     if (discard && p->wrote_pvd) remove(p->path);
+    for (size_t i = 0; i < p->nm; i++) {
+        if (discard) remove(p->mfile[i]);
+        free(p->mfile[i]);
+    }
+    if (discard && p->wrote_mpvd) {
+        char *mp = modes_pvd(p);
+        if (mp) remove(mp);
+        free(mp);
+    }
+    free(p->mfile);
+    free(p->mtime);
+    free(p->mdomain);
     free(p->file);
     free(p->step);
     free(p->time);
@@ -146,6 +174,46 @@ static int write_frame(aug_pvd *p, const aug_summary *s, const aug_rec *rec, aug
     return rc;
 }
 
+/* a MODE record's .vtu, DIR/NAME_modes_KKKK.vtu (K its index among the
+   MODE records), on the mesh of its step: the summary's, whose MDLT of that
+   step came before */
+static int write_mode(aug_pvd *p, const aug_summary *s, const aug_rec *rec, aug_err *e)
+{
+    const aug_mesh *m = aug_summary_mesh(s);
+    if (!m) return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "a MODE record before the mesh");
+    if (p->nm == p->capm) {
+        size_t cap = p->capm ? 2 * p->capm : 16;
+        char **f = aug_realloc(p->mfile, cap * sizeof *f);
+        if (f) p->mfile = f;
+        double *fr = f ? aug_realloc(p->mtime, cap * sizeof *fr) : NULL;
+        if (fr) p->mtime = fr;
+        int32_t *dm = fr ? aug_realloc(p->mdomain, cap * sizeof *dm) : NULL;
+        if (!dm) return aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+        p->mdomain = dm;
+        p->capm = cap;
+    }
+    aug_moderec r;
+    if (aug_read_mode(rec, &r, e)) return e->code;
+    size_t len = p->stem + 32;
+    char *name = aug_malloc(len);
+    int rc = 0;
+    if (!name) rc = aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+    else {
+        snprintf(name, len, "%.*s_modes_%04ld.vtu", (int)p->stem, p->path, (long)p->nm);
+        p->mfile[p->nm] = name, p->mtime[p->nm] = r.frame, p->mdomain[p->nm] = r.domain;
+        p->nm++;
+        FILE *o = fopen(name, "w");
+        if (!o) rc = aug_err_set(e, AUG_EIO, -1, "", "%s: %s", name, strerror(errno));
+        else {
+            rc = aug_vtk_write_modes(o, m, &r, e);
+            if (rc && e->record < 0) e->record = rec->index;
+            if (fclose(o) != 0 && !rc) rc = aug_err_set(e, AUG_EIO, -1, "", "%s: write failed", name);
+        }
+    }
+    aug_moderec_free(&r);
+    return rc;
+}
+
 int aug_pvd_add(aug_pvd *p, const aug_summary *s, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
@@ -153,11 +221,14 @@ int aug_pvd_add(aug_pvd *p, const aug_summary *s, const aug_rec *rec, aug_err *e
         p->frames = 1;
         return write_frame(p, s, rec, e);
     }
-    if (p->frames) return 0;
-    const aug_rectype *rt = aug_rectype_find(rec->type);
-    if (!rt || !rt->perstep || rec->step <= p->cur) return 0;
-    if (write_step(p, s, e)) return e->code;
-    p->cur = rec->step;
+    if (!p->frames) {
+        const aug_rectype *rt = aug_rectype_find(rec->type);
+        if (rt && rt->perstep && rec->step > p->cur) {
+            if (write_step(p, s, e)) return e->code;
+            p->cur = rec->step;
+        }
+    }
+    if (!memcmp(rec->type, "MODE", 4)) return write_mode(p, s, rec, e);
     return 0;
 }
 
@@ -172,25 +243,43 @@ static void put_attr(FILE *o, const char *name)
     }
 }
 
-/* The last step, then the collection: one DataSet per .vtu, timestep = step
-   number, file relative to the .pvd's directory. */
-int aug_pvd_end(aug_pvd *p, const aug_summary *s, aug_err *e)
+/* a collection of n datasets: timestep time[i], part part[i] (NULL: 0), file
+   file[i] relative to the collection's directory (its first `base` bytes);
+   *wrote = 1 once the file is created */
+static int write_collection(const char *path, size_t n, char **file, const double *time,
+                            const int32_t *part, size_t base, int *wrote, aug_err *e)
 {
-    aug_err_clear(e);
-    if (!p->frames && write_step(p, s, e)) return e->code;
-    FILE *o = fopen(p->path, "w");
-    if (!o) return aug_err_set(e, AUG_EIO, -1, "", "%s: %s", p->path, strerror(errno));
-    p->wrote_pvd = 1;
+    FILE *o = fopen(path, "w");
+    if (!o) return aug_err_set(e, AUG_EIO, -1, "", "%s: %s", path, strerror(errno));
+    *wrote = 1;
     fprintf(o, "<?xml version=\"1.0\"?>\n");
     fprintf(o, "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
     fprintf(o, "  <Collection>\n");
-    for (size_t i = 0; i < p->n; i++) {
-        fprintf(o, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"", p->time[i]);
-        put_attr(o, p->file[i] + p->base);
+    for (size_t i = 0; i < n; i++) {
+        fprintf(o, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"%d\" file=\"", time[i],
+                part ? (int)part[i] : 0);
+        put_attr(o, file[i] + base);
         fprintf(o, "\"/>\n");
     }
     fprintf(o, "  </Collection>\n</VTKFile>\n");
     int bad = ferror(o);
-    if (fclose(o) != 0 || bad) return aug_err_set(e, AUG_EIO, -1, "", "%s: write failed", p->path);
+    if (fclose(o) != 0 || bad) return aug_err_set(e, AUG_EIO, -1, "", "%s: write failed", path);
     return 0;
+}
+
+/* The last step, then the collection: one DataSet per .vtu, timestep = step
+   number (frame time); NAME_modes.pvd: one per MODE record, timestep = its
+   frame, part = its domain. */
+int aug_pvd_end(aug_pvd *p, const aug_summary *s, aug_err *e)
+{
+    aug_err_clear(e);
+    if (!p->frames && write_step(p, s, e)) return e->code;
+    if (write_collection(p->path, p->n, p->file, p->time, NULL, p->base, &p->wrote_pvd, e))
+        return e->code;
+    if (!p->nm) return 0;
+    char *mp = modes_pvd(p);
+    if (!mp) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+    int rc = write_collection(mp, p->nm, p->mfile, p->mtime, p->mdomain, p->base, &p->wrote_mpvd, e);
+    free(mp);
+    return rc;
 }

@@ -8,6 +8,7 @@
 
 #define MAXTYPES 64 /* distinct record types listed; more are folded into "other" */
 #define MAXMAT 16   /* KMAT / FVEC / cOND records listed */
+#define MAXDOM 64   /* MODE domains listed; more are counted only */
 
 typedef struct tcount {
     char type[8];
@@ -68,6 +69,8 @@ struct aug_summary {
     int32_t qual_step;
     aug_kv qual;
     long nmode;
+    int nmdom;                 /* MODE per domain, increasing domain */
+    struct { int32_t domain, r, kind, step, frame; long n; } mdom[MAXDOM];
     aug_steptab tab;
 };
 
@@ -312,6 +315,31 @@ static int add_path(aug_summary *s, const aug_rec *rec, aug_err *e)
 
 static int is(const aug_rec *rec, const char *t) { return memcmp(rec->type, t, 4) == 0; }
 
+/* MODE (formats 7.5): per domain the count and the last record's rank */
+static int add_mode(aug_summary *s, const aug_rec *rec, aug_err *e)
+{
+    if (aug_check_payload(rec, e)) return e->code;
+    s->nmode++;
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t dom = aug_cur_i32(&c), frame = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    int32_t kind = aug_cur_i32(&c);
+    aug_cur_i64(&c);
+    int32_t r = aug_cur_i32(&c);
+    int i = 0;
+    while (i < s->nmdom && s->mdom[i].domain < dom) i++;
+    if (i == s->nmdom || s->mdom[i].domain != dom) {
+        if (s->nmdom == MAXDOM) return 0;
+        memmove(s->mdom + i + 1, s->mdom + i, (size_t)(s->nmdom - i) * sizeof s->mdom[0]);
+        s->nmdom++;
+        s->mdom[i].domain = dom, s->mdom[i].n = 0;
+    }
+    s->mdom[i].n++;
+    s->mdom[i].r = r, s->mdom[i].kind = kind, s->mdom[i].step = rec->step, s->mdom[i].frame = frame;
+    return 0;
+}
+
 int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
@@ -349,7 +377,7 @@ int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e)
         s->nqual++;
         s->qual_step = rec->step;
     } else if (is(rec, "MODE")) {
-        s->nmode++;
+        rc = add_mode(s, rec, e);
     }
     return rc;
 }
@@ -698,6 +726,11 @@ static void print_steps(FILE *o, const aug_summary *s)
         fputc('\n', o);
     }
     if (s->nmode) fprintf(o, "  modes            %ld MODE records\n", s->nmode);
+    for (int i = 0; i < s->nmdom; i++)
+        fprintf(o, "    domain %-9d %ld MODE, last rank %d (%s, step %d, frame %d)\n",
+                (int)s->mdom[i].domain, s->mdom[i].n, (int)s->mdom[i].r,
+                s->mdom[i].kind == 0 ? "snapshot basis" : "LMA modes", (int)s->mdom[i].step,
+                (int)s->mdom[i].frame);
 }
 
 int aug_summary_print(FILE *o, aug_summary *s, const char *name, aug_err *e)

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "aug_modal.h"
 #include "aug_stats.h"
 
 #define VTK_TRIANGLE 5
@@ -32,39 +33,59 @@ int aug_vtk_write(FILE *o, const aug_mesh *m, const double *u, const unsigned ch
     return aug_vtk_write_uv(o, m, u, NULL, mask, e);
 }
 
+/* the file up to its FieldData or Piece */
+static void vtk_begin(FILE *o)
+{
+    fprintf(o, "<?xml version=\"1.0\"?>\n");
+    fprintf(o, "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
+    fprintf(o, "  <UnstructuredGrid>\n");
+}
+
+static void vtk_piece(FILE *o, const aug_mesh *m)
+{
+    fprintf(o, "    <Piece NumberOfPoints=\"%lld\" NumberOfCells=\"%lld\">\n", (long long)m->nn,
+            (long long)m->ne);
+}
+
+/* a point array of nn tuples of ncomp values, v[i*dim + c] (c >= dim: 0) */
+static void point_array(FILE *o, const char *name, const aug_mesh *m, const double *v, int ncomp)
+{
+    open_array(o, "Float64", name, ncomp);
+    for (int64_t i = 0; i < m->nn; i++) {
+        if (i) fputc('\n', o);
+        for (int d = 0; d < ncomp; d++) fprintf(o, "%s%.17g", d ? " " : "", d < m->dim ? v[i * m->dim + d] : 0.0);
+    }
+    close_array(o);
+}
+
+static void vtk_mesh(FILE *o, const aug_mesh *m);
+
 int aug_vtk_write_uv(FILE *o, const aug_mesh *m, const double *u, const double *v,
                      const unsigned char *mask, aug_err *e)
 {
     aug_err_clear(e);
     if (!aug_etype_nv(m->etype)) return aug_err_set(e, AUG_EUSAGE, -1, "", "mesh has no elements");
-    int dim = m->dim, nv = m->nv;
-    fprintf(o, "<?xml version=\"1.0\"?>\n");
-    fprintf(o, "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
-    fprintf(o, "  <UnstructuredGrid>\n");
-    fprintf(o, "    <Piece NumberOfPoints=\"%lld\" NumberOfCells=\"%lld\">\n", (long long)m->nn,
-            (long long)m->ne);
+    vtk_begin(o);
+    vtk_piece(o, m);
     if (u) {
         fprintf(o, "      <PointData Vectors=\"displacement\" Scalars=\"displacement_mask\">\n");
-        open_array(o, "Float64", "displacement", 3);
-        for (int64_t i = 0; i < m->nn; i++) {
-            if (i) fputc('\n', o);
-            for (int d = 0; d < 3; d++) fprintf(o, "%s%.17g", d ? " " : "", d < dim ? u[i * dim + d] : 0.0);
-        }
-        close_array(o);
-        if (v) {
-            open_array(o, "Float64", "velocity", 3);
-            for (int64_t i = 0; i < m->nn; i++) {
-                if (i) fputc('\n', o);
-                for (int d = 0; d < 3; d++) fprintf(o, "%s%.17g", d ? " " : "", d < dim ? v[i * dim + d] : 0.0);
-            }
-            close_array(o);
-        }
+        point_array(o, "displacement", m, u, 3);
+        if (v) point_array(o, "velocity", m, v, 3);
         open_array(o, "UInt8", "displacement_mask", 1);
         for (int64_t i = 0; i < m->nn; i++)
             fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", mask ? (int)mask[i] : 1);
         close_array(o);
         fprintf(o, "      </PointData>\n");
     }
+    vtk_mesh(o, m);
+    if (ferror(o)) return aug_err_set(e, AUG_EIO, -1, "", "write failed");
+    return 0;
+}
+
+/* cell data, points, cells and the end of the file */
+static void vtk_mesh(FILE *o, const aug_mesh *m)
+{
+    int dim = m->dim, nv = m->nv;
     fprintf(o, "      <CellData Scalars=\"material\">\n");
     open_array(o, "Int32", "material", 1);
     for (int64_t i = 0; i < m->ne; i++) fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", (int)m->mat[i]);
@@ -118,6 +139,53 @@ int aug_vtk_write_uv(FILE *o, const aug_mesh *m, const double *u, const double *
     close_array(o);
     fprintf(o, "      </Cells>\n");
     fprintf(o, "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+}
+
+/* field data sigma, domain, frame, kind; point data mode_j (dim components,
+   0 off the domain) and in_domain */
+int aug_vtk_write_modes(FILE *o, const aug_mesh *m, const aug_moderec *r, aug_err *e)
+{
+    aug_err_clear(e);
+    if (!aug_etype_nv(m->etype)) return aug_err_set(e, AUG_EUSAGE, -1, "", "mesh has no elements");
+    int dim = m->dim;
+    if (r->dim != dim || r->nodes[r->count - 1] >= m->nn)
+        return aug_err_set(e, AUG_EDATA, -1, "MODE", "domain %d: %d-D modes at node %lld of a %d-D mesh of %lld nodes",
+                           (int)r->domain, (int)r->dim, (long long)r->nodes[r->count - 1], dim, (long long)m->nn);
+    double *v = aug_calloc((size_t)(m->nn * dim) + 1, sizeof *v);
+    if (!v) return aug_err_set(e, AUG_ENOMEM, -1, "MODE", "out of memory");
+    vtk_begin(o);
+    fprintf(o, "    <FieldData>\n");
+    /* field data arrays need their NumberOfTuples (VTK 9 reads none without it) */
+    fprintf(o, "        <DataArray type=\"Float64\" Name=\"sigma\" NumberOfTuples=\"%d\" format=\"ascii\">\n", (int)r->r);
+    for (int j = 0; j < r->r; j++) put_q(o, j, r->sigma[j]);
+    close_array(o);
+    const char *iname[3] = {"domain", "frame", "kind"};
+    int32_t ival[3] = {r->domain, r->frame, r->kind};
+    for (int k = 0; k < 3; k++) {
+        fprintf(o, "        <DataArray type=\"Int32\" Name=\"%s\" NumberOfTuples=\"1\" format=\"ascii\">\n%d", iname[k], (int)ival[k]);
+        close_array(o);
+    }
+    fprintf(o, "    </FieldData>\n");
+    vtk_piece(o, m);
+    fprintf(o, "      <PointData Scalars=\"in_domain\">\n");
+    size_t nd = (size_t)(r->count * dim);
+    for (int j = 0; j < r->r; j++) {
+        for (int64_t k = 0; k < r->count; k++)
+            for (int c = 0; c < dim; c++) v[(size_t)r->nodes[k] * dim + c] = r->phi[j * nd + k * dim + c];
+        char name[32];
+        snprintf(name, sizeof name, "mode_%d", j);
+        point_array(o, name, m, v, dim);
+    }
+    open_array(o, "UInt8", "in_domain", 1);
+    for (int64_t i = 0, k = 0; i < m->nn; i++) {
+        int in = k < r->count && r->nodes[k] == i;
+        k += in;
+        fprintf(o, "%s%d", i % 32 ? " " : i ? "\n" : "", in);
+    }
+    close_array(o);
+    fprintf(o, "      </PointData>\n");
+    vtk_mesh(o, m);
+    free(v);
     if (ferror(o)) return aug_err_set(e, AUG_EIO, -1, "", "write failed");
     return 0;
 }

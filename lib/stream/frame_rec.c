@@ -1,6 +1,5 @@
-/* Framing-family codecs (formats/stream.md 4, 7.5): HEAD, pROv, TAIL, and the
-   reserved MODE. The writer and reader frame HEAD and TAIL themselves; these
-   are their checks and text. */
+/* Framing-family codecs (formats/stream.md 4): HEAD, pROv, TAIL. The writer
+   and reader frame HEAD and TAIL themselves; these are their checks and text. */
 #include <stdlib.h>
 #include <string.h>
 #include "aug_stream.h"
@@ -112,16 +111,6 @@ static int tail_dump(FILE *o, struct aug_mesh *m, const aug_rec *rec, aug_err *e
     return 0;
 }
 
-/* MODE: layout reserved (formats 7.5): framing checks only, dumped as hex */
-static int mode_dump(FILE *o, struct aug_mesh *m, const aug_rec *rec, aug_err *e)
-{
-    (void)m, (void)e;
-    aug_txt_header(o, rec);
-    aug_txt_hex(o, rec);
-    return 0;
-}
-
 const aug_codec aug_codec_head = {"lib/stream/frame_rec.c", head_check, head_dump};
 const aug_codec aug_codec_prov = {"lib/stream/frame_rec.c", NULL, prov_dump};
 const aug_codec aug_codec_tail = {"lib/stream/frame_rec.c", tail_check, tail_dump};
-const aug_codec aug_codec_mode = {"lib/stream/frame_rec.c", NULL, mode_dump};

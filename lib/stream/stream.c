@@ -56,7 +56,7 @@ static const aug_rectype table[] = {
     {"sTAt", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
     {"tIMe", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
     {"qUAl", 24, 1 << 20, 3, 0, 1, &aug_codec_kv},
-    {"MODE", 16, AUG_MAX_BODY, 3, 0, 1, &aug_codec_mode},
+    {"MODE", 32, AUG_MAX_BODY, 3, 0, 1, &aug_codec_mode},
     {"TAIL", 8, 8, 4, 1, 0, &aug_codec_tail},
 };
 

@@ -173,3 +173,17 @@ if __name__ == "__main__":
           "materials", len(m.get("mats", [])), "sets", len(m["sets"]))
     for s in m["set_order"]:
         print("set", s, len(m["sets"][s]))
+
+
+def mode(p):
+    """a MODE payload (formats 7.5) as a dict; phi[j][k] = the dim values of
+    mode j at node nodes[k]"""
+    domain, frame, dim, kind, count, r, _ = struct.unpack_from("<iiiiqii", p, 0)
+    nodes, o = arr("i", p, 32, count)
+    sigma, o = arr("d", p, o, r)
+    flat, o = arr("d", p, o, r * count * dim)
+    if o != len(p):
+        raise StreamError("MODE length")
+    phi = [[flat[(j * count + k) * dim:(j * count + k + 1) * dim] for k in range(count)] for j in range(r)]
+    return {"domain": domain, "frame": frame, "dim": dim, "kind": kind, "count": count, "r": r,
+            "nodes": nodes, "sigma": sigma, "phi": phi}

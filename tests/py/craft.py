@@ -34,6 +34,15 @@ usage: craft.py KIND IN [IN2] > OUT
                  the tIMe's = 'ms,x'; the second sTAt's (and tIMe's) tag = 'x\ny' (RFC 4180)
   rewrite        + step 1: an MDLT re-wiring every element as it is (no new node) and an
                  empty UPDT: every element is the step's, for refine's bisection in 3-D
+  mode-add       + valid MODE records (formats 7.5): at step 0 domain 0 (the first half of
+                 the nodes, 3 snapshot modes, frame 0) and domain 1 (the odd nodes, 2 LMA
+                 modes, frame 0); at the last step the same two domains over its mesh
+                 (frame 2); phi = sin(1 + j + 0.37 node + 0.11 c)
+  mode-len, mode-dim, mode-kind, mode-rank, mode-count, mode-nodes, mode-nan, mode-sigma
+                 mode-add, then its first MODE with 8 bytes more / dim 4 / kind 2 / r 0 /
+                 count 2^40 / nodes 0 and 1 exchanged / phi[0] = NaN / sigma 0 and 1
+                 exchanged (ascending for a snapshot basis)
+  mode-far       mode-add, then its first MODE's last node = 10^6 (a valid record, off the mesh)
 """
 import math, struct, sys, zlib
 
@@ -77,6 +86,33 @@ def mesh_dims(recs):
 def put(recs, i, payload):
     t, f, s, _ = recs[i]
     recs[i] = (t, f, s, bytes(payload))
+
+
+def mode_payload(domain, frame, dim, kind, nodes, sigma):
+    count, r = len(nodes), len(sigma)
+    phi = [math.sin(1 + j + 0.37 * n + 0.11 * c) for j in range(r) for n in nodes for c in range(dim)]
+    return struct.pack("<iiiiqii", domain, frame, dim, kind, count, r, 0) + \
+        struct.pack("<%di" % count, *nodes) + struct.pack("<%dd" % r, *sigma) + \
+        struct.pack("<%dd" % len(phi), *phi)
+
+
+def add_modes(recs):
+    """MODE records at step 0 (before the first record of a later step) and at
+    the last step (before TAIL), over the node counts of those steps"""
+    dim, nv = mesh_dims(recs)
+    nn = struct.unpack_from("<q", recs[first(recs, "NODE")][3], 8)[0]
+    last = max([r[2] for r in recs] + [0])
+    nlast = nn + sum(struct.unpack_from("<q", r[3], 0)[0] for r in recs if r[0] == "MDLT")
+
+    def two(n, frame):
+        return [mode_payload(0, frame, dim, 0, list(range(max(1, n // 2))), [3.0, 1.5, 0.5]),
+                mode_payload(1, frame, dim, 1, list(range(1, n, 2)), [10.0, 40.0])]
+    body = [r for r in recs if r[0] != "TAIL"]
+    at = next((i for i, r in enumerate(body) if r[2] >= 1), len(body))
+    out = body[:at] + [("MODE", 0, 0, p) for p in two(nn, 0)] + body[at:]
+    if last >= 1:
+        out += [("MODE", 0, last, p) for p in two(nlast, 2)]
+    return out
 
 
 def main():
@@ -247,6 +283,36 @@ def main():
         conn = q[16:16 + 4 * nv * ne]
         md = struct.pack("<qq", 0, ne) + struct.pack("<%di" % ne, *range(ne)) + conn + struct.pack("<qii", 0, 0, 0)
         recs = [r for r in recs if r[0] != "TAIL"] + [("MDLT", 0, 1, md), ("UPDT", 0, 1, struct.pack("<ii", 0, 0))]
+    elif kind.startswith("mode-"):
+        recs = add_modes(recs)
+        i = first(recs, "MODE")
+        p = bytearray(recs[i][3])
+        dim, count, r = struct.unpack_from("<i", p, 8)[0], struct.unpack_from("<q", p, 16)[0], \
+            struct.unpack_from("<i", p, 24)[0]
+        sig = 32 + 4 * count
+        if kind == "mode-len":
+            p += bytes(8)
+        elif kind == "mode-dim":
+            struct.pack_into("<i", p, 8, 4)
+        elif kind == "mode-kind":
+            struct.pack_into("<i", p, 12, 2)
+        elif kind == "mode-rank":
+            struct.pack_into("<i", p, 24, 0)
+        elif kind == "mode-count":
+            struct.pack_into("<q", p, 16, 1 << 40)
+        elif kind == "mode-nodes":
+            a, b = struct.unpack_from("<ii", p, 32)
+            struct.pack_into("<ii", p, 32, b, a)
+        elif kind == "mode-nan":
+            struct.pack_into("<d", p, sig + 8 * r, math.nan)
+        elif kind == "mode-sigma":
+            a, b = struct.unpack_from("<dd", p, sig)
+            struct.pack_into("<dd", p, sig, b, a)
+        elif kind == "mode-far":
+            struct.pack_into("<i", p, 32 + 4 * (count - 1), 10 ** 6)
+        elif kind != "mode-add":
+            raise SystemExit(__doc__)
+        put(recs, i, p)
     else:
         raise SystemExit(__doc__)
     sys.stdout.buffer.write(build(recs))

@@ -238,7 +238,11 @@ static void gen3(FILE *f, int deflate, double slow)
     double qv[] = {1.3660254037844386, 54.735610317245346};
     kv(w, "qUAl", 1, "refine", 2, qk, qv);
     aug_buf_init(&b);
-    for (int i = 0; i < 20; i++) aug_buf_put(&b, (unsigned char[]){(unsigned char)(i * 13)}, 1);
+    /* MODE (formats 7.5): domain 0, frame 1, 3-D, kind 0, nodes 0 and 3, one mode */
+    aug_buf_i32(&b, 0), aug_buf_i32(&b, 1), aug_buf_i32(&b, 3), aug_buf_i32(&b, 0);
+    aug_buf_i64(&b, 2), aug_buf_i32(&b, 1), aug_buf_i32(&b, 0);
+    aug_buf_i32v(&b, (int32_t[]){0, 3}, 2);
+    aug_buf_f64v(&b, (double[]){0.5, 1, 0, 0, 0, 0.25, 0}, 7);
     put(w, "MODE", 1, &b);
     if (aug_write(w, "zNOt", AUG_NOSTEP, "", 0, &e)) exit(1);
     if (aug_writer_close(w, &e)) exit(1);
@@ -705,7 +709,8 @@ static void test_dump_bad_payload(void)
 
 /* .pvd series and .mtx export with every allocation failing once in turn:
    each run ends in AUG_ENOMEM or success; a failed run, discarded, leaves no
-   file; the run that succeeds writes the steps 0 and 1 and K of step 0 */
+   file; the run that succeeds writes the steps 0 and 1, the MODE record's
+   series and K of step 0 */
 static void test_series_alloc_failure(void)
 {
     size_t len;
@@ -753,8 +758,8 @@ static void test_series_alloc_failure(void)
     T_CHECK(done, "never succeeded");
     T_CHECK(bad == 0, "%d failures other than out of memory", bad);
     T_CHECK(left == 0, "%d failed runs left files", left);
-    const char *want[] = {"s.pvd", "s_0000.vtu", "s_0001.vtu", "m_K.mtx"};
-    for (int i = 0; i < 4; i++) {
+    const char *want[] = {"s.pvd", "s_0000.vtu", "s_0001.vtu", "s_modes.pvd", "s_modes_0000.vtu", "m_K.mtx"};
+    for (int i = 0; i < 6; i++) {
         char f[96];
         snprintf(f, sizeof f, "%s/%s", dir, want[i]);
         T_CHECK(access(f, F_OK) == 0, "%s not written", want[i]);

@@ -117,7 +117,11 @@ static int write_all(FILE *f, uint64_t deflate_min, aug_err *e)
     if ((rc = aug_write_kv(w, "tIMe", 1, &kv, e))) goto out;
     aug_kv_init(&kv, "refine");
     if ((rc = aug_write_kv(w, "qUAl", 1, &kv, e))) goto out;
-    aug_buf_i64(&b, 1), aug_buf_i64(&b, 15), aug_buf_f64v(&b, big, 15);
+    /* MODE (formats 7.5): domain 0, frame 0, 3-D, kind 0, 5 nodes, 2 modes */
+    aug_buf_i32(&b, 0), aug_buf_i32(&b, 0), aug_buf_i32(&b, 3), aug_buf_i32(&b, 0);
+    aug_buf_i64(&b, 5), aug_buf_i32(&b, 2), aug_buf_i32(&b, 0);
+    aug_buf_i32v(&b, (int32_t[]){0, 1, 2, 3, 4}, 5);
+    aug_buf_f64v(&b, (double[]){2, 1}, 2), aug_buf_f64v(&b, big, 30);
     if ((rc = b.failed ? AUG_ENOMEM : aug_write(w, "MODE", 2, b.p, b.len, e))) goto outb;
     aug_buf_free(&b);
     rc = aug_writer_close(w, e);
