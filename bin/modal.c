@@ -15,7 +15,7 @@ static const char *synopsis =
     "      [--rank R] [--svd-tol T] [--tau-svd T] [--err-tol E] [--acc-tol A] [--min-snap N]\n"
     "      [--probes K] [--gate exact|estimate] [--coupling direct|schur|ppcg] [--tol T]\n"
     "      [--maxit N] [--basis svd|identity] [--lead N] [--frames N] [--settle N] [--check]\n"
-    "      [--ordering auto|amd|metis] [--keep-neighbours]"
+    "      [--ordering auto|amd|metis] [--keep-neighbours] [--warp] [--lma K]"
     "      [--output all|surface|SET] [--seed S] [--threads N] [-h]";
 
 static const char *help =
@@ -30,7 +30,7 @@ static const char *help =
     "  --tau-svd T          switch test, eq. 12: singular-value sum ratio > T (default 0.95)\n"
     "  --err-tol E          switch when the relative projection error < E (default 0.01)\n"
     "  --acc-tol A          accumulated-error budget: a domain reduced at error err stays\n"
-    "                       floor(A / err) frames (default 0.05)\n"
+    "                       about (A - err) / drift frames (default 0.01)\n"
     "  --min-snap N         snapshots a domain takes before it may switch (default 4)\n"
     "  --probes K           random probes of the eq. 14 estimate (default 4; 0: none)\n"
     "  --gate exact|estimate  the error the switch tests (default exact)\n"
@@ -42,6 +42,8 @@ static const char *help =
     "  --lead N             frames on the intact mesh before the first cut step (default 0)\n"
     "  --frames N           frames per cut step (default 1)\n"
     "  --settle N           frames after the last step (default 0)\n"
+    "  --warp               write the warped displacement (eqs. 16-17)\n"
+    "  --lma K              the K lowest modes of every domain (MODE kind 1, sTAt lma)\n"
     "  --check              full FE on the same frames too: l2_err per frame, fe_ms\n"
     "  --output all|surface|SET  nodes written in fRAM (default: the stream's oUTs)\n"
     "  --keep-neighbours    a cut leaves the reduced neighbours of the domains it re-wires\n"
@@ -54,7 +56,7 @@ static const char *help =
 typedef struct options {
     const char *file, *output;
     aug_msim_opts mo;
-    int frames, settle, lead, check, seed, threads, ordering;
+    int frames, settle, lead, check, seed, threads, ordering, lma;
     int32_t red[256];
 } options;
 
@@ -115,6 +117,8 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_INT("--settle", &o->settle, 0, 100000000, "a count >= 0")},
         {AUG_OPT_FLAG("--check", &o->check)},
         {AUG_OPT_FLAG("--keep-neighbours", &m->keep_neighbours)},
+        {AUG_OPT_FLAG("--warp", &m->warp)},
+        {AUG_OPT_INT("--lma", &o->lma, 1, AUG_MODES_MAX, "a count from 1 to 24")},
         {AUG_OPT_STRING("--output", &o->output, "all, surface or a set name"), .flags = AUG_OPT_NONEMPTY},
         {AUG_OPT_INT("--seed", &o->seed, 1, 2000000000, "a positive integer")},
         {AUG_OPT_THREADS(&o->threads)},
@@ -142,6 +146,7 @@ typedef struct session {
 } session;
 
 static void frames(aug_tool *t, const options *o, aug_replay *rp, session *ss, long n, const aug_rec *rec);
+static void lma(aug_tool *t, const options *o, session *ss, int all, const aug_rec *rec);
 
 /* the simulation (and its FE reference) on the original mesh, then the
    --lead frames */
@@ -168,7 +173,63 @@ static void start(aug_tool *t, const options *o, aug_replay *rp, session *ss, co
     rp->track = 1;
     rp->nchg = 0;
     ss->started = 1;
+    lma(t, o, ss, 1, rec);
     if (o->lead > 0) frames(t, o, rp, ss, o->lead, rec);
+}
+
+/* --lma: the lowest modes of every domain rebuilt (all at the start) */
+static void lma(aug_tool *t, const options *o, session *ss, int all, const aug_rec *rec)
+{
+    aug_err e;
+    aug_msim *s = &ss->sim;
+    for (int d = 0; d < s->nd && o->lma; d++) {
+        if (!all && !s->d[d].rebuilt) continue;
+        aug_moderec mr;
+        if (aug_msim_lma(s, d, o->lma, &mr, &e)) fail_at(t, &e, rec);
+        if (mr.r == 0) continue;
+        aug_tool_check(t, aug_write_mode(t->w, ss->step, &mr, &e), &e);
+        aug_kv k;
+        aug_kv_init(&k, "lma");
+        aug_kv_set(&k, "frame", s->frame);
+        aug_kv_set(&k, "domain", d);
+        for (int j = 0; j < mr.r; j++) {
+            char key[32];
+            snprintf(key, sizeof key, "lambda%d", j);
+            aug_kv_set(&k, key, mr.sigma[j]);
+        }
+        aug_moderec_free(&mr);
+        aug_tool_check(t, aug_write_kv(t->w, "sTAt", ss->step, &k, &e), &e);
+    }
+}
+
+/* a MODE for every domain that switched to its subspace this frame; with
+   --lma how well that basis spans the domain's modes (paper 004 fig. 3) */
+static void modes(aug_tool *t, const options *o, session *ss, const aug_rec *rec)
+{
+    aug_err e;
+    aug_msim *s = &ss->sim;
+    for (int d = 0; d < s->nd; d++) {
+        if (s->d[d].switched != 1) continue;
+        aug_moderec mr;
+        if (aug_msim_mode(s, d, &mr, &e)) fail_at(t, &e, rec);
+        aug_tool_check(t, aug_write_mode(t->w, ss->step, &mr, &e), &e);
+        aug_moderec_free(&mr);
+        double rel[AUG_MODES_MAX];
+        int n = o->lma ? aug_msim_lma_fit(s, d, rel) : 0;
+        if (n < 0) aug_tool_die(t, "out of memory");
+        if (n == 0) continue;
+        aug_kv k;
+        aug_kv_init(&k, "lma");
+        aug_kv_set(&k, "frame", s->frame);
+        aug_kv_set(&k, "domain", d);
+        aug_kv_set(&k, "rank", s->d[d].r);
+        for (int j = 0; j < n; j++) {
+            char key[32];
+            snprintf(key, sizeof key, "fit%d", j);
+            aug_kv_set(&k, key, rel[j]);
+        }
+        aug_tool_check(t, aug_write_kv(t->w, "sTAt", ss->step, &k, &e), &e);
+    }
 }
 
 /* relative L2 distance of the hybrid's nodal displacement to the FE one */
@@ -199,7 +260,10 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, session *ss, l
         if (s->o.coupling == AUG_COUPLE_PPCG && !s->converged)
             fprintf(stderr, "%s: step %d, frame %d: ppcg did not converge (relres %.3g after %d iterations)\n",
                     t->prog, (int)ss->step, (int)s->frame, s->relres, s->iters);
-        aug_tool_check(t, aug_replay_write_frame(t->w, rp, ss->step, s->frame, s->time, s->u, s->v, &e), &e);
+        const double *out = aug_msim_output(s, &rp->mesh, &e);
+        if (!out) fail_at(t, &e, rec);
+        aug_tool_check(t, aug_replay_write_frame(t->w, rp, ss->step, s->frame, s->time, out, s->v, &e), &e);
+        modes(t, o, ss, rec);
         aug_tool_check(t, aug_write_kv(t->w, "sTAt", ss->step, &st, &e), &e);
         aug_tool_check(t, aug_write_kv(t->w, "tIMe", ss->step, &tm, &e), &e);
     }
@@ -221,6 +285,7 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, session *ss, con
     for (int i = 0; i < 1 + o->check; i++)
         if (aug_msim_step(sims[i], m, nn_old, parent, rp->chg, rp->nchg, &e)) fail_at(t, &e, rec);
     rp->nchg = 0;
+    lma(t, o, ss, 0, rec);
     frames(t, o, rp, ss, o->frames, rec);
 }
 

@@ -64,6 +64,10 @@ typedef struct aug_mdomain {
     int since;                  /* snapshots since the last re-wiring or return to FE */
     int switched;               /* this frame: +1 to reduced, -1 to FE, 0 */
     int rebuilt;                /* re-wired this step */
+    int hold;                   /* returned to FE by this step (a neighbour re-wired) */
+    double *lmaX;               /* --lma: its lowest modes (nf x nlma, M-orthonormal) */
+    int nlma;
+    double lmaL[AUG_MODES_MAX];
 } aug_mdomain;
 
 /* ---- The simulation (lib/modal/msim.c) ---- */
@@ -148,6 +152,21 @@ int aug_msim_step(aug_msim *s, const aug_mesh *m, int64_t nn_old, const int32_t 
 int aug_msim_frame(aug_msim *s, const aug_mesh *m, aug_err *e);
 /* The frame's figures as sTAt / tIMe (tag modal). */
 void aug_msim_stats(const aug_msim *s, aug_kv *st, aug_kv *tm);
+
+/* ---- What modal writes besides the frames (lib/modal/mode_out.c) ---- */
+/* Domain d's current basis (reduced) as a MODE record's content (kind 0):
+   W over its nodes, node-major, constrained DOFs 0, sigma its singular values;
+   arrays malloc'd into *mr (aug_moderec_free). */
+int aug_msim_mode(const aug_msim *s, int d, aug_moderec *mr, aug_err *e);
+/* The k lowest modes of domain d (paper 004 fig. 3: LMA), kept in the domain,
+   as a MODE record of kind 1 (mr->r = 0: the domain is too small for k). */
+int aug_msim_lma(aug_msim *s, int d, int k, aug_moderec *mr, aug_err *e);
+/* rel[j] = ||x_j - W W'x_j|| / ||x_j|| of the kept modes against the current
+   basis of domain d; their count (0: none or not reduced), -1 out of memory. */
+int aug_msim_lma_fit(const aug_msim *s, int d, double *rel);
+/* The field to write: u, or with o.warp R~(w) u (eqs. 16-17) in s->uw. NULL
+   on error. */
+const double *aug_msim_output(aug_msim *s, const aug_mesh *m, aug_err *e);
 
 /* ---- Domain internals shared by msim.c and direct.c (lib/modal/domain.c) ---- */
 int aug_mdomain_build(aug_mdomain *d, int id, const aug_mesh *m, const int32_t *edom,

@@ -13,7 +13,7 @@ void aug_mdomain_free(aug_mdomain *d, cholmod_common *cm)
     free(d->elems), free(d->nodes), free(d->map), free(d->free_dof), free(d->fext);
     free(d->u), free(d->v), free(d->uf), free(d->b), free(d->du), free(d->tmp), free(d->tmp2);
     free(d->W), free(d->Kr), free(d->Mr), free(d->Ar), free(d->fr), free(d->q), free(d->qd);
-    free(d->br), free(d->dq);
+    free(d->br), free(d->dq), free(d->lmaX);
     cholmod_sparse **s[] = {&d->Kall, &d->Mall, &d->Aall, &d->K, &d->M, &d->A};
     for (int i = 0; i < 6; i++)
         if (*s[i]) cholmod_free_sparse(s[i], cm);

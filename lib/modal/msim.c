@@ -422,8 +422,10 @@ int aug_msim_frame(aug_msim *s, const aug_mesh *m, aug_err *e)
     aug_err_clear(e);
     s->events = s->step_events;
     s->step_events = 0;
-    for (int di = 0; di < s->nd; di++)
-        if (!s->d[di].rebuilt) s->d[di].switched = 0;
+    for (int di = 0; di < s->nd; di++) {
+        if (!s->d[di].rebuilt && !s->d[di].hold) s->d[di].switched = 0;
+        s->d[di].hold = 0;
+    }
     double t0 = aug_now();
     for (int di = 0; di < s->nd; di++)
         if (aug_mdomain_rhs(&s->d[di], &s->p, m, s->cm, e)) return e->code;
@@ -582,7 +584,7 @@ int aug_msim_step(aug_msim *s, const aug_mesh *m, int64_t nn_old, const int32_t 
             rc = rewire(s, di, m, nn_old, parent, e), s->step_events++;
         } else if (nb[di] && s->d[di].mode == AUG_MD_RED) {
             aug_mdomain_unreduce(&s->d[di]);
-            s->d[di].since = 0, s->d[di].rebuilt = 1, s->step_events++;
+            s->d[di].since = 0, s->d[di].hold = 1, s->step_events++;
         }
     free(nb);
     free(hit);
