@@ -136,7 +136,26 @@ static void checks(void)
     aug_moderec m = sample(0, 6, 3, 4);
     refuse(&m, 8, AUG_EPAYLOAD, "bytes for 6 nodes in 3-D and 4 modes", 0);
     refuse(&m, (uint64_t)-8, AUG_EPAYLOAD, "bytes for 6 nodes", 0);
-    m.dim = 4, refuse(&m, 0, AUG_EDATA, "dim 4", 1), m.dim = 3;
+    {   /* dim 4 in the payload of dim 3; the writer checks dim before its arrays */
+        uint64_t n;
+        unsigned char *q = payload(&m, &n);
+        memcpy(q + 8, &(int32_t){4}, 4);
+        aug_rec rq = as_rec(q, n);
+        aug_moderec o;
+        aug_err e;
+        T_CHECK(aug_read_mode(&rq, &o, &e) == AUG_EDATA && strstr(e.msg, "dim 4"), "dim 4: %s", e.msg);
+        free(q);
+        m.dim = 4;
+        char *s = NULL;
+        size_t sn;
+        FILE *f = open_memstream(&s, &sn);
+        aug_writer *w = aug_writer_open(f, "t", &e);
+        T_CHECK(aug_write_mode(w, 1, &m, &e) == AUG_EDATA && strstr(e.msg, "dim 4"), "writer took dim 4");
+        aug_writer_free(w);
+        fclose(f);
+        free(s);
+        m.dim = 3;
+    }
     m.kind = 2, refuse(&m, 0, AUG_EDATA, "kind 2", 1), m.kind = 0;
     m.domain = -1, refuse(&m, 0, AUG_EDATA, "domain -1", 1), m.domain = 3;
     m.frame = -2, refuse(&m, 0, AUG_EDATA, "frame -2", 1), m.frame = 7;
