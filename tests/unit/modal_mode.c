@@ -131,27 +131,43 @@ static void refuse(aug_moderec *m, uint64_t dlen, int code, const char *what, in
     free(p);
 }
 
+/* the header field at byte off (dim 8, r 24) = val in m's valid payload: the
+   reader refuses it; the writer refuses m with that field */
+static void refuse_at(const aug_moderec *m, int off, int32_t val, const char *what)
+{
+    uint64_t n;
+    unsigned char *q = payload(m, &n);
+    memcpy(q + off, &val, 4);
+    aug_rec rq = as_rec(q, n);
+    aug_moderec o, bad = *m;
+    aug_err e;
+    T_CHECK(aug_read_mode(&rq, &o, &e) == AUG_EDATA && strstr(e.msg, what), "%s: %s", what, e.msg);
+    free(q);
+    if (off == 8) bad.dim = val;
+    else bad.r = val;
+    char *s = NULL;
+    size_t sn;
+    FILE *f = open_memstream(&s, &sn);
+    aug_writer *w = aug_writer_open(f, "t", &e);
+    T_CHECK(aug_write_mode(w, 1, &bad, &e) == AUG_EDATA && strstr(e.msg, what), "writer took %s", what);
+    aug_writer_free(w);
+    fclose(f);
+    free(s);
+}
+
 static void checks(void)
 {
     aug_moderec m = sample(0, 6, 3, 4);
     refuse(&m, 8, AUG_EPAYLOAD, "bytes for 6 nodes in 3-D and 4 modes", 0);
     refuse(&m, (uint64_t)-8, AUG_EPAYLOAD, "bytes for 6 nodes", 0);
-    m.dim = 4, refuse(&m, 0, AUG_EDATA, "dim 4", 1), m.dim = 3;
+    /* dim 4 and r 19 patched into a valid payload (the writer checks them before its arrays) */
+    refuse_at(&m, 8, 4, "dim 4");
+    refuse_at(&m, 24, 19, "rank 19 for 18 DOFs");
     m.kind = 2, refuse(&m, 0, AUG_EDATA, "kind 2", 1), m.kind = 0;
     m.domain = -1, refuse(&m, 0, AUG_EDATA, "domain -1", 1), m.domain = 3;
     m.frame = -2, refuse(&m, 0, AUG_EDATA, "frame -2", 1), m.frame = 7;
     m.r = 0, refuse(&m, 0, AUG_EDATA, "rank 0 for 18 DOFs", 1);
     m.r = 4;
-    {   /* r = 19 in the payload of 4 modes; the writer checks r before its arrays */
-        uint64_t n;
-        unsigned char *q = payload(&m, &n);
-        memcpy(q + 24, &(int32_t){19}, 4);
-        aug_rec rq = as_rec(q, n);
-        aug_moderec o;
-        aug_err e;
-        T_CHECK(aug_read_mode(&rq, &o, &e) == AUG_EDATA && strstr(e.msg, "rank 19 for 18 DOFs"), "r 19: %s", e.msg);
-        free(q);
-    }
     m.nodes[3] = m.nodes[2], refuse(&m, 0, AUG_EDATA, "node 3 (5) not increasing", 1);
     m.nodes[3] = 7, m.nodes[0] = -1, refuse(&m, 0, AUG_EDATA, "node 0 (-1)", 1), m.nodes[0] = 1;
     m.phi[40] = NAN, refuse(&m, 0, AUG_EDATA, "mode 2, node 1: value not finite", 1), m.phi[40] = 0;
