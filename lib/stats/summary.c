@@ -637,6 +637,49 @@ static int print_frames(FILE *o, const aug_summary *s)
     return 0;
 }
 
+/* modal (formats/stream.md 7.4, tag modal): its frames, how many had a
+   domain reduced, the median frame time against the FE frame of --check, the
+   largest L2 error and interface gap, the switch events, the system sizes */
+static int print_modal(FILE *o, const aug_summary *s)
+{
+    const aug_steptab *t = &s->tab;
+    size_t nf = 0, nred = 0, nt = 0, ne = 0;
+    double l2 = -INFINITY, gap = -INFINITY, smax = -INFINITY, smin = INFINITY, ev = 0;
+    double *tm = aug_malloc((t->n + 1) * sizeof *tm), *fe = aug_malloc((t->n + 1) * sizeof *fe);
+    if (!tm || !fe) return free(tm), free(fe), -1;
+    for (size_t i = 0; i < t->n; i++) {
+        const aug_steprow *r = &t->row[i];
+        int f;
+        double v;
+        if (strncmp(r->method, "modal", 16)) continue;
+        if (r->has_stat) {
+            nf++;
+            if ((v = aug_steprow_get(r, "reduced", &f), f) && v > 0) nred++;
+            if ((v = aug_steprow_get(r, "l2_err", &f), f)) l2 = fmax(l2, v);
+            if ((v = aug_steprow_get(r, "gap", &f), f)) gap = fmax(gap, v);
+            if ((v = aug_steprow_get(r, "events", &f), f)) ev += v;
+            if ((v = aug_steprow_get(r, "n_sys", &f), f)) smax = fmax(smax, v), smin = fmin(smin, v);
+        }
+        if (r->has_time) {
+            if ((v = aug_steprow_get(r, "time_ms", &f), f)) tm[nt++] = v;
+            if ((v = aug_steprow_get(r, "fe_ms", &f), f)) fe[ne++] = v;
+        }
+    }
+    if (nf) {
+        fprintf(o, "modal (sTAt, tIMe tag modal)\n");
+        fprintf(o, "  frames           %zu, %zu with a domain reduced, %.0f switch events\n", nf, nred, ev);
+        fprintf(o, "  system size      %.0f .. %.0f unknowns\n", smin, smax);
+        double hm = aug_median(tm, nt), fm = aug_median(fe, ne);
+        fprintf(o, "  frame_ms median  %.4g", hm);
+        if (ne) fprintf(o, " (full FE %.4g: %.3gx)", fm, fm / hm);
+        fputc('\n', o);
+        fprintf(o, "  gap max          %.3g\n", gap);
+        if (l2 > -INFINITY) fprintf(o, "  l2_err max       %.3g (against full FE, --check)\n", l2);
+    }
+    free(tm), free(fe);
+    return 0;
+}
+
 /* per method, in order of first appearance (rows of steps, not of frames) */
 static int print_methods(FILE *o, const aug_summary *s)
 {
@@ -671,6 +714,7 @@ static int print_methods(FILE *o, const aug_summary *s)
             }
             if (r->has_time && (v = aug_steprow_get(r, "time_ms", &f), f)) tm[nt++] = v;
         }
+        if (!nst && !nt) continue; /* frame rows only (modal, lma): their own tables */
         char c[4][32]; /* "-" where the records have no such value */
         double med = aug_median(rr, nr), tmed = aug_median(tm, nt);
         double v[4] = {med, rmax, tmed, 1000.0 / tmed};
@@ -761,7 +805,7 @@ int aug_summary_print(FILE *o, aug_summary *s, const char *name, aug_err *e)
     print_matrices(o, s);
     print_steps(o, s);
     aug_reactab_print(o, &s->tab.react);
-    if (print_methods(o, s) || print_frames(o, s)) goto nomem;
+    if (print_methods(o, s) || print_frames(o, s) || print_modal(o, s)) goto nomem;
     if (s->fin.valid) print_quality(o, s, &s->fin, "final");
     if (ferror(o)) return aug_err_set(e, AUG_EIO, -1, "", "write failed");
     return 0;
