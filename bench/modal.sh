@@ -17,11 +17,11 @@
 # FPS ours / FEM 28/15 cube, 38/20 steak, 29/19 armadillo.
 # Writes bench/out/modal.csv, modal_frames_SCENE.csv, modal_coupling.csv,
 # modal_l2.png, modal_timeline.png, modal_speed.png.
-# Env: SCENES, STEPS (8), LEAD (30 frames before the first cut), FRAMES (10 per
-# step), QUICK=1 (cube_n8 and steak, 2 steps).
+# Env: SCENES, STEPS (6), LEAD (30 frames before the first cut), FRAMES (30 per
+# step: a cut every 30 frames), QUICK=1 (cube_n8 and steak, 2 steps).
 cd "$(dirname "$0")/.." || exit 2
 B=bin; S=build/scenes; O=bench/out; T=build/bench/modal; mkdir -p $O $T
-STEPS=${STEPS:-8}; LEAD=${LEAD:-30}; FRAMES=${FRAMES:-10}
+STEPS=${STEPS:-6}; LEAD=${LEAD:-30}; FRAMES=${FRAMES:-30}
 if [ "${QUICK:-0}" = 1 ]; then SCENES=${SCENES:-"cube_n8 steak"}; STEPS=2; LEAD=12; FRAMES=6; fi
 SCENES=${SCENES:-"cube steak organ_brain organ_sphere3"}
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
@@ -41,7 +41,8 @@ setup() { # scene -> "meshload args|h|cut args|paper fps ours|paper fps fem"
             [ -n "$f" ] && [ -f "$f" ] || return 1
             box=$($B/meshload "$f" | $B/stats | awk '$1 == "bounding" {
                 gsub(/[\[\],]/, " "); print $4 - 1, $7 - 1, $10 - 1, $5 + 1, $8 + 1, $10 + 0.1 * ($11 - $10) }' | tr ' ' ',')
-            echo "$f --fix box:$box $mat --gravity 0,0,-9.81|0.016666666666666666|--plane random --per-step 64|-|-" ;;
+            case $1 in organ_brain) ps=64 ;; *) ps=24 ;; esac
+            echo "$f --fix box:$box $mat --gravity 0,0,-9.81|0.016666666666666666|--plane random --per-step $ps|-|-" ;;
         *) return 1 ;;
     esac
 }

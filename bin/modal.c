@@ -15,7 +15,7 @@ static const char *synopsis =
     "      [--rank R] [--svd-tol T] [--tau-svd T] [--err-tol E] [--acc-tol A] [--min-snap N]\n"
     "      [--probes K] [--gate exact|estimate] [--coupling direct|schur|ppcg] [--tol T]\n"
     "      [--maxit N] [--basis svd|identity] [--lead N] [--frames N] [--settle N] [--check]\n"
-    "      [--ordering auto|amd|metis] [--keep-neighbours] [--warp] [--lma K]"
+    "      [--ordering auto|amd|metis] [--after-cut all|neighbours|touched] [--warp] [--lma K]"
     "      [--output all|surface|SET] [--seed S] [--threads N] [-h]";
 
 static const char *help =
@@ -46,8 +46,9 @@ static const char *help =
     "  --lma K              the K lowest modes of every domain (MODE kind 1, sTAt lma)\n"
     "  --check              full FE on the same frames too: l2_err per frame, fe_ms\n"
     "  --output all|surface|SET  nodes written in fRAM (default: the stream's oUTs)\n"
-    "  --keep-neighbours    a cut leaves the reduced neighbours of the domains it re-wires\n"
-    "                       reduced (paper 004; default: they return to FE too)\n"
+    "  --after-cut W        which reduced domains a cut step returns to FE: all (default),\n"
+    "                       neighbours (those sharing an interface with a domain it\n"
+    "                       touches) or touched (only those it re-wires: paper 004)\n"
     "  --ordering auto|amd|metis  fill-reducing ordering of the FE factors (default metis)\n"
     "  --seed S             seed of the estimate's probes (default 1)\n"
     "  --threads N          threads of CHOLMOD and OpenBLAS (default 1)\n"
@@ -63,6 +64,8 @@ typedef struct options {
 static const aug_word gates[] = {{"exact", 0}, {"estimate", 1}, {NULL, 0}};
 static const aug_word couplings[] = {
     {"direct", AUG_COUPLE_DIRECT}, {"schur", AUG_COUPLE_SCHUR}, {"ppcg", AUG_COUPLE_PPCG}, {NULL, 0}};
+static const aug_word aftercut[] = {
+    {"all", AUG_AFTER_CUT_ALL}, {"neighbours", AUG_AFTER_CUT_NEIGHBOURS}, {"touched", AUG_AFTER_CUT_TOUCHED}, {NULL, 0}};
 static const aug_word orderings[] = {
     {"auto", AUG_ORDER_AUTO}, {"amd", AUG_ORDER_AMD}, {"metis", AUG_ORDER_METIS}, {NULL, 0}};
 static const aug_word bases[] = {{"svd", AUG_BASIS_SVD}, {"identity", AUG_BASIS_IDENTITY}, {NULL, 0}};
@@ -116,7 +119,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_INT("--frames", &o->frames, 1, 100000000, "a count >= 1")},
         {AUG_OPT_INT("--settle", &o->settle, 0, 100000000, "a count >= 0")},
         {AUG_OPT_FLAG("--check", &o->check)},
-        {AUG_OPT_FLAG("--keep-neighbours", &m->keep_neighbours)},
+        {AUG_OPT_CHOICE("--after-cut", &m->after_cut, aftercut, "all, neighbours or touched")},
         {AUG_OPT_FLAG("--warp", &m->warp)},
         {AUG_OPT_INT("--lma", &o->lma, 1, AUG_MODES_MAX, "a count from 1 to 24")},
         {AUG_OPT_STRING("--output", &o->output, "all, surface or a set name"), .flags = AUG_OPT_NONEMPTY},

@@ -73,6 +73,7 @@ typedef struct aug_mdomain {
 /* ---- The simulation (lib/modal/msim.c) ---- */
 enum { AUG_COUPLE_DIRECT = 0, AUG_COUPLE_SCHUR = 1, AUG_COUPLE_PPCG = 2 };
 enum { AUG_BASIS_SVD = 0, AUG_BASIS_IDENTITY = 1 };
+enum { AUG_AFTER_CUT_ALL = 0, AUG_AFTER_CUT_NEIGHBOURS = 1, AUG_AFTER_CUT_TOUCHED = 2 };
 typedef struct aug_msim_opts {
     const char *domains;        /* aug_mpart_init spec */
     int split;
@@ -91,7 +92,7 @@ typedef struct aug_msim_opts {
     int maxit;
     int basis;                  /* AUG_BASIS_* (identity: a check of the machinery) */
     int warp;                   /* write warped fields (eqs. 16-17) */
-    int keep_neighbours;        /* a cut leaves the reduced neighbours of a re-wired domain reduced */
+    int after_cut;              /* AUG_AFTER_CUT_*: reduced domains a cut returns to FE */
     uint64_t seed;
 } aug_msim_opts;
 void aug_msim_opts_default(aug_msim_opts *o);

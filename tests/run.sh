@@ -60,7 +60,7 @@ fi
 # to 13m43s on the 2-core machine shared with other jobs (5m16s to 11m37s
 # with this subset, under the same load). make check-asan (--asan-only) runs every shell test.
 ASAN_TESTS="cut_detach cut_path cut_plane cut_solve golden progress refine_pipeline solve_output
-            solve_pipeline solve_singular stats_mtx stats_pipeline stats_pvd stats_vtk"
+            solve_pipeline solve_singular stats_mtx stats_pipeline stats_pvd stats_vtk modal_fe modal_switch"
 [ $asan_only -eq 1 ] && ASAN_TESTS=$(for t in tests/*.test; do basename "$t" .test; done)
 export AUG_BIN="$PWD/$B/asan/bin"
 for tool in bin/*.c; do

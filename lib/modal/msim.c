@@ -393,7 +393,10 @@ static int switching(aug_msim *s, aug_mdomain *d, aug_err *e)
     double un = cblas_dnrm2((int)d->nf, d->uf, 1), dn = cblas_dnrm2((int)d->nf, d->du, 1);
     d->last_est = NAN;
     d->last_drift = INFINITY;
-    if (d->svd.r > 0 && un > 0) {
+    /* the drift and the estimate only where the switch may happen this frame
+       (the paper computes eq. 12 only once the ratio test passes) */
+    int may = d->since + 1 >= s->o.min_snap && d->last_ratio > s->o.tau_svd;
+    if (may && d->svd.r > 0 && un > 0) {
         d->last_drift = aug_proj_err(&d->svd, d->du, s->pwork) * dn / un;
         if (s->o.probes > 0) {
             d->last_est = aug_proj_err_estimate(&d->svd, d->uf, s->o.probes < d->nf ? s->o.probes : (int)d->nf,
@@ -569,12 +572,17 @@ int aug_msim_step(aug_msim *s, const aug_mesh *m, int64_t nn_old, const int32_t 
         hit[di] = !same_bc(d, m, s->owner, loc);
     }
     free(loc);
-    /* the reduced neighbours of a re-wired domain (an interface row with it
-       before the step) return to FE too, unless --keep-neighbours: their
-       subspace saw the old interface only */
+    /* which reduced domains a cut sends back to FE besides those it re-wires
+       (--after-cut): every one (default: in one elastic body a cut changes
+       the response everywhere), the neighbours (an interface row with a
+       re-wired domain before the step: their subspace saw the old interface
+       only), or none (paper 004's rule) */
     unsigned char *nb = calloc((size_t)s->nd, 1);
     if (!nb) return free(hit), NOMEM(e);
-    for (int64_t k = 0; k < s->m && !s->o.keep_neighbours; k++) {
+    int any = 0;
+    for (int di = 0; di < s->nd; di++) any |= hit[di];
+    for (int di = 0; di < s->nd && any && s->o.after_cut == AUG_AFTER_CUT_ALL; di++) nb[di] = 1;
+    for (int64_t k = 0; k < s->m && s->o.after_cut == AUG_AFTER_CUT_NEIGHBOURS; k++) {
         if (hit[s->ca[k]]) nb[s->cb[k]] = 1;
         if (hit[s->cb[k]]) nb[s->ca[k]] = 1;
     }
