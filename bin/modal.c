@@ -8,6 +8,7 @@
 #include <string.h>
 #include "aug_cut.h"
 #include "aug_msim.h"
+#include "aug_solve.h"
 #include "cli/aug_opt.h"
 
 static const char *synopsis =
@@ -15,7 +16,8 @@ static const char *synopsis =
     "      [--rank R] [--svd-tol T] [--tau-svd T] [--err-tol E] [--acc-tol A] [--min-snap N]\n"
     "      [--probes K] [--gate exact|estimate] [--coupling direct|schur|ppcg] [--tol T]\n"
     "      [--maxit N] [--basis svd|identity] [--lead N] [--frames N] [--settle N] [--check]\n"
-    "      [--ordering auto|amd|metis] [--after-cut all|neighbours|touched] [--warp] [--lma K]"
+    "      [--ordering auto|amd|metis] [--after-cut all|neighbours|touched] [--warp] [--lma K]\n"
+    "      [--fe-solver amps|cholmod]"
     "      [--output all|surface|SET] [--seed S] [--threads N] [-h]";
 
 static const char *help =
@@ -49,6 +51,8 @@ static const char *help =
     "  --after-cut W        which reduced domains a cut step returns to FE: all (default),\n"
     "                       neighbours (those sharing an interface with a domain it\n"
     "                       touches) or touched (only those it re-wires: paper 004)\n"
+    "  --fe-solver S        every domain FE: amps (default: the stream's factor and its cut\n"
+    "                       updates, as solve-aug) or cholmod (the shared-node system factored)\n"
     "  --ordering auto|amd|metis  fill-reducing ordering of the FE factors (default metis)\n"
     "  --seed S             seed of the estimate's probes (default 1)\n"
     "  --threads N          threads of CHOLMOD and OpenBLAS (default 1)\n"
@@ -57,7 +61,7 @@ static const char *help =
 typedef struct options {
     const char *file, *output;
     aug_msim_opts mo;
-    int frames, settle, lead, check, seed, threads, ordering, lma;
+    int frames, settle, lead, check, seed, threads, ordering, lma, fe_cholmod;
     int32_t red[256];
 } options;
 
@@ -66,6 +70,7 @@ static const aug_word couplings[] = {
     {"direct", AUG_COUPLE_DIRECT}, {"schur", AUG_COUPLE_SCHUR}, {"ppcg", AUG_COUPLE_PPCG}, {NULL, 0}};
 static const aug_word aftercut[] = {
     {"all", AUG_AFTER_CUT_ALL}, {"neighbours", AUG_AFTER_CUT_NEIGHBOURS}, {"touched", AUG_AFTER_CUT_TOUCHED}, {NULL, 0}};
+static const aug_word fesolvers[] = {{"amps", 0}, {"cholmod", 1}, {NULL, 0}};
 static const aug_word orderings[] = {
     {"auto", AUG_ORDER_AUTO}, {"amd", AUG_ORDER_AMD}, {"metis", AUG_ORDER_METIS}, {NULL, 0}};
 static const aug_word bases[] = {{"svd", AUG_BASIS_SVD}, {"identity", AUG_BASIS_IDENTITY}, {NULL, 0}};
@@ -116,6 +121,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_CHOICE("--basis", &m->basis, bases, "svd or identity")},
         {AUG_OPT_INT("--lead", &o->lead, 0, 100000000, "a count >= 0")},
         {AUG_OPT_CHOICE("--ordering", &o->ordering, orderings, "auto, amd or metis")},
+        {AUG_OPT_CHOICE("--fe-solver", &o->fe_cholmod, fesolvers, "amps or cholmod")},
         {AUG_OPT_INT("--frames", &o->frames, 1, 100000000, "a count >= 1")},
         {AUG_OPT_INT("--settle", &o->settle, 0, 100000000, "a count >= 0")},
         {AUG_OPT_FLAG("--check", &o->check)},
@@ -139,14 +145,46 @@ static void fail_at(aug_tool *t, aug_err *e, const aug_rec *rec)
     aug_tool_fail(t, e);
 }
 
-/* the session: the hybrid simulation, the FE reference (--check) */
+/* the session: the hybrid simulation, the FE reference (--check), the
+   stream's own system and its AMPS solver for the frames with every domain FE */
 typedef struct session {
     aug_msim sim, ref;
     int started, have_init;
     aug_frame init;
     cholmod_common cm;
     int32_t step;
+    aug_sys0 sys;
+    aug_replay *rp;
+    aug_update km;
+    long km_index;
+    aug_mext ext;
+    int32_t xframe;
 } session;
+
+/* the external FE solver (aug_mext) over the stream's A_t */
+static int64_t ext_n(void *ctx)
+{
+    session *ss = ctx;
+    return aug_solver_n(ss->sys.solver);
+}
+
+static int64_t ext_index(void *ctx, int64_t node, int c)
+{
+    session *ss = ctx;
+    return aug_replay_index(ss->rp, node, c);
+}
+
+static int ext_solve(void *ctx, const double *b, double *x, aug_err *e)
+{
+    session *ss = ctx;
+    aug_solver *s = ss->sys.solver;
+    if (aug_solver_frame(s, b, ++ss->xframe, e)) return e->code;
+    if (aug_solver_frame_singular(s, AUG_M_AMPS))
+        return aug_err_set(e, AUG_ESINGULAR, -1, "UPDT", "AMPS did not solve A_t (relres %.3g)",
+                           aug_kv_get(aug_solver_stat(s, AUG_M_AMPS), "relres", NAN));
+    memcpy(x, aug_solver_field(s, AUG_M_AMPS), (size_t)aug_solver_n(s) * sizeof *x);
+    return 0;
+}
 
 static void frames(aug_tool *t, const options *o, aug_replay *rp, session *ss, long n, const aug_rec *rec);
 static void lma(aug_tool *t, const options *o, session *ss, int all, const aug_rec *rec);
@@ -168,10 +206,20 @@ static void start(aug_tool *t, const options *o, aug_replay *rp, session *ss, co
                      (long long)m->nn);
     const double *u0 = ss->have_init ? ss->init.u : NULL, *v0 = ss->have_init ? ss->init.v : NULL;
     if (aug_msim_init(&ss->sim, &o->mo, &rp->dyn, m, u0, v0, &ss->cm, &e)) fail_at(t, &e, rec);
+    if (!o->fe_cholmod) {
+        aug_solver_opts so;
+        aug_solver_opts_default(&so);
+        so.nmeth = 1, so.order[0] = AUG_M_AMPS, so.nthreads = o->threads;
+        if (aug_sys0_solver(&ss->sys, rp->started ? rp->nfree0 : -1, &so, rec, &e)) fail_at(t, &e, rec);
+        ss->rp = rp;
+        ss->ext = (aug_mext){ss, ext_n, ext_index, ext_solve};
+        ss->sim.ext = &ss->ext;
+    }
     if (o->check) {
         aug_msim_opts r = o->mo;
         r.reduce_all = 0, r.reduce_none = 1, r.nreduce = 0, r.coupling = AUG_COUPLE_DIRECT, r.basis = AUG_BASIS_SVD;
         if (aug_msim_init(&ss->ref, &r, &rp->dyn, m, u0, v0, &ss->cm, &e)) fail_at(t, &e, rec);
+        if (!o->fe_cholmod) ss->ref.ext = &ss->ext;
     }
     rp->track = 1;
     rp->nchg = 0;
@@ -284,6 +332,18 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, session *ss, con
     if (m->nn != nn_old && !parent)
         aug_tool_die(t, "%s: record %ld (UPDT): step %d: the mesh grew without its MDLT", t->inname, rec->index,
                      (int)rec->step);
+    if (ss->sys.solver) { /* the stream's update of A_t for AMPS */
+        aug_update u;
+        if (aug_read_update(rec, &u, &e)) aug_tool_fail(t, &e);
+        if (!ss->km.EK)
+            aug_tool_die(t, "%s: record %ld (UPDT): step %d of a dynamic stream has no UPKM", t->inname, rec->index,
+                         (int)u.step);
+        aug_tool_check(t, aug_update_attach_km(&u, &ss->km, ss->km_index, rec, &e), &e);
+        aug_update_free(&ss->km);
+        int flags = rp->nmdlt && rp->mdlt_step == u.step ? rp->mdlt_flags : 0;
+        if (aug_solver_step(ss->sys.solver, &u, NULL, 0, flags, &e)) fail_at(t, &e, rec);
+        aug_update_free(&u);
+    }
     aug_msim *sims[2] = {&ss->sim, &ss->ref};
     for (int i = 0; i < 1 + o->check; i++)
         if (aug_msim_step(sims[i], m, nn_old, parent, rp->chg, rp->nchg, &e)) fail_at(t, &e, rec);
@@ -308,6 +368,7 @@ int main(int argc, char **argv)
     aug_tool_open_in(&t, o.file);
     aug_tool_open_out(&t);
     aug_cholmod_start(&ss.cm);
+    aug_tool_check(&t, aug_sys0_init(&ss.sys, &e), &e);
     aug_factor_options(&ss.cm, o.ordering, 0);
     aug_replay_init(&rp);
     rp.output = o.output;
@@ -317,6 +378,12 @@ int main(int argc, char **argv)
                             !memcmp(rec.type, "UPKM", 4) || !memcmp(rec.type, "UPDT", 4)))
             start(&t, &o, &rp, &ss, &rec);
         aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
+        if (!o.fe_cholmod) aug_tool_check(&t, aug_sys0_add(&ss.sys, &rec, &e), &e);
+        if (!memcmp(rec.type, "UPKM", 4) && !o.fe_cholmod) {
+            aug_update_free(&ss.km);
+            aug_tool_check(&t, aug_read_updkm(&rec, &ss.km, &e), &e);
+            ss.km_index = rec.index;
+        }
         if (!memcmp(rec.type, "fRAM", 4) && !ss.started && !ss.have_init) {
             aug_frame_free(&ss.init);
             aug_tool_check(&t, aug_read_frame(&rec, &ss.init, &e), &e);
@@ -334,6 +401,8 @@ int main(int argc, char **argv)
     aug_msim_free(&ss.sim);
     aug_msim_free(&ss.ref);
     aug_frame_free(&ss.init);
+    aug_update_free(&ss.km);
+    aug_sys0_free(&ss.sys);
     cholmod_finish(&ss.cm);
     aug_rec_free(&rec);
     aug_replay_free(&rp);

@@ -99,6 +99,20 @@ void aug_msim_opts_default(aug_msim_opts *o);
 
 typedef struct aug_direct aug_direct;   /* lib/modal/direct.c */
 
+/* An external solver of the whole-mesh FE system, used by the direct
+   coupling whenever every domain is FE (the shared-node system is then the
+   stream's A_t): A_t x = b in its own numbering of n(ctx) unknowns, index(ctx,
+   node, c) the unknown of a free DOF (-1: none; its other unknowns are
+   decoupled identity rows). modal passes the AMPS solver of the stream
+   (paper 001: the cut steps as principal-submatrix updates of the factor
+   factor wrote, no re-factorization). */
+typedef struct aug_mext {
+    void *ctx;
+    int64_t (*n)(void *ctx);
+    int64_t (*index)(void *ctx, int64_t node, int c);
+    int (*solve)(void *ctx, const double *b, double *x, aug_err *e);
+} aug_mext;
+
 typedef struct aug_msim {
     aug_msim_opts o;
     aug_dynp p;
@@ -126,6 +140,7 @@ typedef struct aug_msim {
     struct aug_saddle *sad;     /* schur / ppcg (aug_saddle.h) */
     struct aug_sblock *blk;
     aug_direct *dir;
+    const aug_mext *ext;        /* NULL: the FE union is always factored */
     int dirty;                  /* coupled system to rebuild */
     uint64_t rng;
     double *pwork;              /* projection work (n + 2 qcap + rank cap) */

@@ -26,6 +26,9 @@ struct aug_direct {
     int32_t *rr;                /* the reduced-reduced rows of s */
     double *bU, *gG, *t, *y, *z, *grr; /* work */
     cholmod_dense *X, *Y, *E;
+    int ext;                    /* every domain FE: the external solver */
+    int64_t *xmap, xn;          /* union index -> its unknown there */
+    double *xb, *xx;
 };
 
 int aug_direct_new(aug_direct **dp, aug_err *e)
@@ -40,6 +43,7 @@ static void clear(aug_direct *dr, cholmod_common *cm)
     free(dr->dmap), free(dr->gsrc), free(dr->roff), free(dr->T), free(dr->P), free(dr->Z);
     free(dr->KKT), free(dr->V), free(dr->Ug), free(dr->sig), free(dr->ipiv), free(dr->rr);
     free(dr->bU), free(dr->gG), free(dr->t), free(dr->y), free(dr->z), free(dr->grr);
+    free(dr->xmap), free(dr->xb), free(dr->xx);
     if (dr->AU) cholmod_free_sparse(&dr->AU, cm);
     if (dr->AII) cholmod_free_sparse(&dr->AII, cm);
     if (dr->L) cholmod_free_factor(&dr->L, cm);
@@ -279,6 +283,34 @@ static void sync_copies(aug_msim *s)
     }
 }
 
+/* every domain FE and an external solver: the union is the whole mesh's
+   free DOFs, mapped to the solver's unknowns */
+static int external(aug_direct *dr, aug_msim *s, aug_err *e)
+{
+    const aug_mext *x = s->ext;
+    int dim = s->dim;
+    dr->ext = 1;
+    dr->xn = x->n(x->ctx);
+    dr->xmap = malloc((size_t)(dr->nU + 1) * sizeof *dr->xmap);
+    dr->xb = malloc((size_t)(dr->xn + 1) * sizeof *dr->xb);
+    dr->xx = malloc((size_t)(dr->xn + 1) * sizeof *dr->xx);
+    dr->bU = malloc((size_t)(dr->nU + 1) * sizeof *dr->bU);
+    dr->y = malloc((size_t)(dr->nU + 1) * sizeof *dr->y);
+    if (!dr->xmap || !dr->xb || !dr->xx || !dr->bU || !dr->y) return NOMEM(e);
+    for (int di = 0; di < s->nd; di++) {
+        const aug_mdomain *d = &s->d[di];
+        for (int64_t i = 0; i < d->nf; i++) {
+            int32_t l = d->free_dof[i];
+            int64_t u = dr->dmap[di][i], k = x->index(x->ctx, d->nodes[l / dim], l % dim);
+            if (k < 0 || k >= dr->xn)
+                return aug_err_set(e, AUG_EDATA, -1, "UPDT", "node %d component %d: no unknown of the stream's "
+                                   "matrix (%lld)", (int)d->nodes[l / dim], l % dim, (long long)k);
+            dr->xmap[u] = k;
+        }
+    }
+    return 0;
+}
+
 int aug_direct_build(aug_direct *dr, aug_msim *s, aug_err *e)
 {
     aug_err_clear(e);
@@ -291,7 +323,12 @@ int aug_direct_build(aug_direct *dr, aug_msim *s, aug_err *e)
         dr->roff[di] = dr->R;
         if (s->d[di].mode == AUG_MD_RED) dr->R += s->d[di].r;
     }
-    int rc = number(dr, s, gl, e);
+    int rc = number(dr, s, gl, e), allfe = s->nd > 0;
+    for (int di = 0; di < s->nd; di++) allfe &= s->d[di].mode == AUG_MD_FE;
+    if (!rc && allfe && s->ext) {
+        free(gl);
+        return external(dr, s, e);
+    }
     if (!rc) rc = union_matrix(dr, s, e);
     if (!rc) rc = slaves(dr, s, gl, e);
     free(gl);
@@ -308,6 +345,18 @@ int aug_direct_build(aug_direct *dr, aug_msim *s, aug_err *e)
     return 0;
 }
 
+/* the solution to the domains: du of FE copies from the union, dq */
+static void scatter(aug_direct *dr, aug_msim *s)
+{
+    for (int di = 0; di < s->nd; di++) {
+        aug_mdomain *d = &s->d[di];
+        if (d->mode == AUG_MD_FE)
+            for (int64_t i = 0; i < d->nf; i++) d->du[i] = dr->y[dr->dmap[di][i]];
+        else
+            memcpy(d->dq, dr->z + dr->roff[di], (size_t)d->r * sizeof *d->dq);
+    }
+}
+
 int aug_direct_solve(aug_direct *dr, aug_msim *s, aug_err *e)
 {
     aug_err_clear(e);
@@ -320,6 +369,14 @@ int aug_direct_solve(aug_direct *dr, aug_msim *s, aug_err *e)
         aug_mdomain *d = &s->d[di];
         if (d->mode != AUG_MD_FE) continue;
         for (int64_t i = 0; i < d->nf; i++) dr->bU[dr->dmap[di][i]] += d->b[i];
+    }
+    if (dr->ext) { /* every domain FE: the stream's A_t through the external solver */
+        memset(dr->xb, 0, (size_t)dr->xn * sizeof *dr->xb);
+        for (int64_t i = 0; i < nU; i++) dr->xb[dr->xmap[i]] = dr->bU[i];
+        if (s->ext->solve(s->ext->ctx, dr->xb, dr->xx, e)) return e->code;
+        for (int64_t i = 0; i < nU; i++) dr->y[i] = dr->xx[dr->xmap[i]];
+        scatter(dr, s);
+        return 0;
     }
     memset(dr->gG, 0, (size_t)nU * sizeof *dr->gG);
     for (int64_t q = 0; q < nG; q++) {
@@ -354,12 +411,6 @@ int aug_direct_solve(aug_direct *dr, aug_msim *s, aug_err *e)
     if (nI > 0 && R > 0) cblas_dgemv(CblasColMajor, CblasNoTrans, (int)nI, R, -1.0, dr->Z, (int)nI, dr->z, 1, 1.0, dr->y, 1);
     for (int64_t q = 0; q < nG; q++) dr->y[nI + q] = dr->gG[nI + q];
     if (nG > 0 && R > 0) cblas_dgemv(CblasColMajor, CblasNoTrans, (int)nG, R, 1.0, dr->T, (int)nG, dr->z, 1, 1.0, dr->y + nI, 1);
-    for (int di = 0; di < s->nd; di++) {
-        aug_mdomain *d = &s->d[di];
-        if (d->mode == AUG_MD_FE)
-            for (int64_t i = 0; i < d->nf; i++) d->du[i] = dr->y[dr->dmap[di][i]];
-        else
-            memcpy(d->dq, dr->z + dr->roff[di], (size_t)d->r * sizeof *d->dq);
-    }
+    scatter(dr, s);
     return 0;
 }
