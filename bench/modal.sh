@@ -8,12 +8,15 @@
 # before the first cut and after it), the ranks and the switch events; AMPS
 # (solve-aug, FE with the principal-submatrix updates across the cuts) on the
 # same cut steps as a second FE baseline; and the three couplings (direct,
-# dual Schur, projected PCG) timed on the same frames of one scene.
+# dual Schur, projected PCG) timed on the same frames of one scene. Each scene
+# twice: the default tolerances (--err-tol, --acc-tol 0.01) and tight ones
+# (0.002, rows SCENE_tight): speed against error.
 # Scenes: the paper's cube (22^3 hexes, E 6e9 / 1e9), a steak-like slab of
 # five layers (bone 9e9, muscle 3e9, fat 1e9; hexes), and, when
 # ../shared/meshes is there, brain + CSF (tets; brain E 3 kPa, CSF 1 kPa,
 # under gravity, supported on its lowest tenth) and the 3-layer sphere (tets; E
-# 3 kPa, 30 kPa, 300 kPa). Paper 004 Table 1 (GTX 770 GPU; ours: one core):
+# 3 kPa, 30 kPa, 300 kPa; both with the Rayleigh damping of bench/dynamics.sh,
+# alpha 0.1, beta 0.001; the hex scenes alpha 0, beta 1e-5). Paper 004 Table 1 (GTX 770 GPU; ours: one core):
 # FPS ours / FEM 28/15 cube, 38/20 steak, 29/19 armadillo.
 # Writes bench/out/modal.csv, modal_frames_SCENE.csv, modal_coupling.csv,
 # modal_l2.png, modal_timeline.png, modal_speed.png.
@@ -42,7 +45,7 @@ setup() { # scene -> "meshload args|h|cut args|paper fps ours|paper fps fem"
             box=$($B/meshload "$f" | $B/stats | awk '$1 == "bounding" {
                 gsub(/[\[\],]/, " "); print $4 - 1, $7 - 1, $10 - 1, $5 + 1, $8 + 1, $10 + 0.1 * ($11 - $10) }' | tr ' ' ',')
             case $1 in organ_brain) ps=64 ;; *) ps=24 ;; esac
-            echo "$f --fix box:$box $mat --gravity 0,0,-9.81|0.016666666666666666|--plane random --per-step $ps|-|-" ;;
+            echo "$f --fix box:$box $mat --gravity 0,0,-9.81|0.016666666666666666|--plane random --per-step $ps|-|-|0.1,0.001" ;;
         *) return 1 ;;
     esac
 }
@@ -50,19 +53,24 @@ for sc in $SCENES; do
     cfg=$(setup $sc) || { echo "modal.sh: $sc not available, skipped" >&2; continue; }
     margs=$(echo "$cfg" | cut -d'|' -f1); h=$(echo "$cfg" | cut -d'|' -f2); cargs=$(echo "$cfg" | cut -d'|' -f3)
     pf=$(echo "$cfg" | cut -d'|' -f4); pe=$(echo "$cfg" | cut -d'|' -f5)
+    ray=$(echo "$cfg" | cut -d'|' -f6); ray=${ray:-0,1e-5}
     # shellcheck disable=SC2086
     $B/meshload $margs > $T/m.aug 2> $T/err.txt || { echo "modal.sh: $sc: meshload failed: $(cat $T/err.txt)" >&2; continue; }
-    $B/factor --dynamic $h --rayleigh 0,1e-5 --no-cond $T/m.aug > $T/f.aug || { echo "modal.sh: $sc: factor failed" >&2; continue; }
+    $B/factor --dynamic $h --rayleigh $ray --no-cond $T/m.aug > $T/f.aug || { echo "modal.sh: $sc: factor failed" >&2; continue; }
     # shellcheck disable=SC2086
     $B/cut $cargs --steps $STEPS --detached keep < $T/f.aug > $T/c.aug || { echo "modal.sh: $sc: cut failed" >&2; continue; }
-    $B/modal --lead $LEAD --frames $FRAMES --check < $T/c.aug > $T/s.aug 2> $T/err.txt ||
+    for tol in default tight; do
+    case $tol in default) topt="" ;; *) topt="--err-tol 0.002 --acc-tol 0.002" ;; esac
+    # shellcheck disable=SC2086
+    $B/modal --lead $LEAD --frames $FRAMES --check $topt < $T/c.aug > $T/s.aug 2> $T/err.txt ||
         { echo "modal.sh: $sc: modal failed: $(tail -1 $T/err.txt)" >&2; continue; }
-    $B/solve-aug --method amps --frames $FRAMES --no-reactions < $T/c.aug > $T/a.aug 2> $T/err.txt ||
-        echo "modal.sh: $sc: solve-aug failed: $(tail -1 $T/err.txt)" >&2
+    [ $tol = default ] && { $B/solve-aug --method amps --frames $FRAMES --no-reactions < $T/c.aug > $T/a.aug 2> $T/err.txt ||
+        echo "modal.sh: $sc: solve-aug failed: $(tail -1 $T/err.txt)" >&2; }
     ne=$($B/meshload $margs 2>/dev/null | $B/stats | awk '$1 == "elements" { print $2; exit }')
     python3 bench/aug_kv.py --records $T/s.aug > $T/kv.txt
     python3 bench/aug_kv.py --records $T/a.aug > $T/akv.txt 2>/dev/null
-    python3 - $T/kv.txt $T/akv.txt $sc "$ne" "$pf" "$pe" $CSV $O/modal_frames_$sc.csv <<'PY'
+    suf=""; [ $tol = tight ] && suf="_tight"
+    python3 - $T/kv.txt $T/akv.txt $sc$suf "$ne" "$pf" "$pe" $CSV $O/modal_frames_$sc$suf.csv <<'PY'
 import statistics, sys
 kv = lambda l: dict((a.split("=")[0], float(a.split("=")[1])) for a in l[3:])
 st, tm = {}, {}
@@ -95,6 +103,7 @@ with open(fcsv, "w") as f:
         f.write("%d,%d,%.4f,%.4f,%.6g,%.3g,%d,%d,%d\n" % (k, s["step"], t["time_ms"], t["fe_ms"], s["l2_err"], s["gap"],
                                                           s["n_sys"], s["reduced"], s["events"]))
 PY
+    done
 done
 # the couplings on the same frames (cube_n8: every domain reduced and FE phases)
 CC=$O/modal_coupling.csv

@@ -55,6 +55,9 @@ typedef struct aug_mdomain {
     int have_svd;
     int r;                      /* reduced: rank */
     double *W;                  /* nf x r explicit basis while reduced */
+    double *MW, *KW, *flift, *dinv; /* M W, K W, f - K[F,C] u_C, 1 / diag(A) (the residual monitor) */
+    unsigned char *iface;       /* nf: free DOF on an interface row */
+    double acc, last_res;       /* accumulated error estimate while reduced, its last increment */
     double *Kr, *Mr, *Ar, *fr, *q, *qd, *br, *dq;
     long budget;                /* reduced frames left (eq. 13's accumulation rule) */
     double err_switch;          /* projection error at the switch */

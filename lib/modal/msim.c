@@ -134,6 +134,19 @@ static int rows(aug_msim *s, aug_err *e)
     return 0;
 }
 
+/* per domain: its free DOFs on an interface row (the residual monitor leaves
+   them out: the coupling forces act there) */
+static int mark_iface(aug_msim *s, aug_err *e)
+{
+    for (int di = 0; di < s->nd; di++) {
+        aug_mdomain *d = &s->d[di];
+        free(d->iface);
+        if (!(d->iface = calloc((size_t)d->nf + 1, 1))) return NOMEM(e);
+    }
+    for (int64_t k = 0; k < s->m; k++) s->d[s->ca[k]].iface[s->cia[k]] = 1, s->d[s->cb[k]].iface[s->cib[k]] = 1;
+    return 0;
+}
+
 static int basis_start(aug_msim *s, aug_mdomain *d, aug_err *e)
 {
     if (!may_reduce(s, d->id) || d->nf == 0) return 0;
@@ -370,12 +383,15 @@ static double frame_gap(const aug_msim *s)
    basis, drift = ||du - UU'du|| / ||u||, so that after s frames the error is
    about err + s drift <= acc_tol: s = floor((acc_tol - err) / drift). The
    switch when the singular-value ratio passes tau_svd, the gated error is below
-   err_tol and the budget is at least min_snap frames (a shorter stay does not
-   pay its switches). A reduced domain spends its budget and returns to FE. */
+   err_tol and the budget (what is left of acc_tol after the errors the
+   domain's reduced stretches accumulated so far) is at least min_snap frames
+   (a shorter stay does not pay its switches). A reduced domain returns to FE when its budget is spent
+   or its error at the switch plus the accumulated a-posteriori estimate of
+   its frames (the residual monitor, aug_mdomain_advance) passes acc_tol. */
 static int switching(aug_msim *s, aug_mdomain *d, aug_err *e)
 {
     if (d->mode == AUG_MD_RED) {
-        if (--d->budget <= 0) {
+        if (--d->budget <= 0 || d->err_switch + d->acc > s->o.acc_tol) {
             aug_mdomain_unreduce(d);
             d->since = 0;
             s->dirty = 1, s->events++;
@@ -412,7 +428,7 @@ static int switching(aug_msim *s, aug_mdomain *d, aug_err *e)
     if (d->since < s->o.min_snap || !(un > 0) || d->svd.r < 1 || !(d->last_ratio > s->o.tau_svd) ||
         !(gate < s->o.err_tol))
         return 0;
-    double left = s->o.acc_tol - d->last_err, b = d->last_drift > 0 ? floor(left / d->last_drift) : 1e9;
+    double left = s->o.acc_tol - d->last_err - d->acc, b = d->last_drift > 0 ? floor(left / d->last_drift) : 1e9;
     if (!(b >= s->o.min_snap)) return 0;
     d->err_switch = d->last_err;
     if (aug_mdomain_reduce(d, &s->p, b > 1e9 ? 1000000000L : (long)b, s->cm, e)) return e->code;
@@ -435,7 +451,7 @@ int aug_msim_frame(aug_msim *s, const aug_mesh *m, aug_err *e)
     double t1 = aug_now();
     s->t_build = 0;
     if (s->dirty) {
-        if (rows(s, e)) return e->code;
+        if (rows(s, e) || mark_iface(s, e)) return e->code;
         int rc = s->o.coupling == AUG_COUPLE_DIRECT ? aug_direct_build(s->dir, s, e) : saddle_build(s, e);
         if (rc) return rc;
         s->dirty = 0;
@@ -538,6 +554,7 @@ static int rewire(aug_msim *s, int di, const aug_mesh *m, int64_t nn_old, const 
         rc = basis_start(s, d, e);
     }
     d->version = old.version + 1;
+    d->acc = old.acc;
     d->switched = old.mode == AUG_MD_RED ? -1 : 0;
     d->rebuilt = 1;
     free(src);
@@ -633,7 +650,7 @@ void aug_msim_stats(const aug_msim *s, aug_kv *st, aug_kv *tm)
         snprintf(k, sizeof k, "d%d_state", di), aug_kv_set(st, k, d->mode);
         snprintf(k, sizeof k, "d%d_n", di), aug_kv_set(st, k, d->mode == AUG_MD_RED ? d->r : (double)d->nf);
         snprintf(k, sizeof k, "d%d_rank", di), aug_kv_set(st, k, d->have_svd ? d->svd.r : 0);
-        snprintf(k, sizeof k, "d%d_err", di), aug_kv_set(st, k, d->mode == AUG_MD_RED ? d->err_switch : d->last_err);
+        snprintf(k, sizeof k, "d%d_err", di), aug_kv_set(st, k, d->mode == AUG_MD_RED ? d->err_switch + d->acc : d->last_err);
         snprintf(k, sizeof k, "d%d_est", di), aug_kv_set(st, k, d->last_est);
         snprintf(k, sizeof k, "d%d_drift", di), aug_kv_set(st, k, d->mode == AUG_MD_RED ? (double)d->budget : d->last_drift);
         snprintf(k, sizeof k, "d%d_switch", di), aug_kv_set(st, k, d->switched);
