@@ -121,7 +121,8 @@ int aug_path_parse(FILE *f, const char *name, aug_path *p, aug_err *e)
         } else if (strcmp(kw, "circle") == 0) {
             if (nv != 3) FAIL("'circle' takes 3 numbers: cx cy r");
             if (!(v[2] > 0)) FAIL("the radius must be positive");
-            /* four quarter arcs, w = cos(45 deg) (thesis fig. 3.1), counter-clockwise */
+            /* four quarter arcs (thesis fig. 3.1), counter-clockwise; the circular weight
+               is w = cos(theta/2) with theta = 90 deg the sweep of each */
             double cx = v[0], cy = v[1], r = v[2];
             double pts[9][2] = {{cx + r, cy}, {cx + r, cy + r}, {cx, cy + r}, {cx - r, cy + r},
                                 {cx - r, cy}, {cx - r, cy - r}, {cx, cy - r}, {cx + r, cy - r},
