@@ -217,7 +217,7 @@ typedef struct hit {
 static int edge_hit(const walk *w, int32_t a, int32_t b, double t, double t1, int32_t n, int strict,
                     hit *h)
 {
-    double r[3];
+    double r[AUG_CURVE_MAXDEG];
     const double *pa = X(w, a), *pb = X(w, b);
     int k = aug_curve_line_roots(w->c, pa, pb, t, t1, r);
     double L2 = (pb[0] - pa[0]) * (pb[0] - pa[0]) + (pb[1] - pa[1]) * (pb[1] - pa[1]);
@@ -278,7 +278,7 @@ static int32_t enter(walk *w, double *t, double t1, int32_t skip, int at_start)
         for (int k = 0; k < 3; k++) {
             int32_t a = c[k], b = c[(k + 1) % 3];
             if (a == skip || b == skip || !boundary_edge(w, a, b)) continue;
-            double r[3];
+            double r[AUG_CURVE_MAXDEG];
             int nr = aug_curve_line_roots(w->c, X(w, a), X(w, b), *t, t1, r);
             for (int i = 0; i < nr; i++) {
                 const double *pa = X(w, a), *pb = X(w, b);
