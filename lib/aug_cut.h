@@ -304,9 +304,9 @@ typedef struct aug_curve {
 } aug_curve;
 void aug_curve_eval(const aug_curve *c, double t, double xy[2]);
 void aug_curve_deriv(const aug_curve *c, double t, double dxy[2]);
-/* B(t), B'(t), B''(t) of any kind (de Casteljau on the homogeneous points,
-   thesis 003 eqs. 3.4-3.6); d2 may be NULL. */
-void aug_curve_jet(const aug_curve *c, double t, double b[2], double d1[2], double d2[2]);
+/* B(t) and its first three derivatives, any kind (de Casteljau on the
+   homogeneous points, thesis 003 eqs. 3.4-3.6); d1, d2, d3 may be NULL. */
+void aug_curve_jet(const aug_curve *c, double t, double b[2], double d1[2], double d2[2], double d3[2]);
 /* The degree and the homogeneous control points (w x, w y, w) of any kind, at
    most AUG_CURVE_MAXDEG + 1 of them; the pointer is h or c->h. */
 int aug_curve_homog(const aug_curve *c, double (*h)[3], const double **hp);
@@ -321,7 +321,7 @@ int aug_bernstein_roots(const double *b, int n, double t0, double t1, double *t)
 /* Curvature kappa(t) = |B' x B''| / |B'|^3 (thesis eq. 3.8, with the cube
    that makes it the curvature); +inf where B' = 0. */
 double aug_curve_kappa(const aug_curve *c, double t);
-/* The t of maximal kappa on [t0, t1] (sampled bracket, then golden section);
+/* The t of maximal kappa on [t0, t1] (sampled bracket, then kappa' = 0);
    1 when it lies inside (not at an end, kappa above both ends), 0 else. */
 int aug_curve_kappa_max(const aug_curve *c, double t0, double t1, double *tk);
 
@@ -371,6 +371,8 @@ typedef struct aug_path_cut {
     const aug_path *path;
     int mode;
     double tol;                  /* snap tolerance, relative to the edge or altitude */
+    int kappa;                   /* split mode: a vertex at the curvature maximum of each
+                                    piece in an element (thesis eq. 3.8); 1 by init */
     double s;                    /* arc length realised so far */
     int32_t node;                /* walk state: current node, -1 outside the mesh */
     int curve;                   /* curve of the walk state */

@@ -23,37 +23,41 @@ int aug_curve_homog(const aug_curve *c, double (*h)[3], const double **hp)
     return n;
 }
 
-/* B(t), B'(t), B''(t) by de Casteljau on the homogeneous points H_i (thesis
-   eqs. 3.4-3.6): after n-2 levels three points r0, r1, r2 remain, and
-   H = (1-t)^2 r0 + 2t(1-t) r1 + t^2 r2, H' = n ((1-t)(r1-r0) + t(r2-r1)),
-   H'' = n(n-1)(r2 - 2 r1 + r0); B = X/W, B' = (X' - B W')/W,
-   B'' = (X'' - 2 B' W' - B W'')/W (the quotient rule). */
-void aug_curve_jet(const aug_curve *c, double t, double b[2], double d1[2], double d2[2])
+/* B(t) and its first three derivatives by de Casteljau on the homogeneous
+   points H_i (thesis eqs. 3.4-3.6): after n-k of the n levels, k+1 points r_j
+   remain and H^(k) = n!/(n-k)! Delta^k r_0 (H''' = 0 below degree 3); then
+   B = X/W and, from X = B W by Leibniz, B' = (X' - B W')/W,
+   B'' = (X'' - 2 B' W' - B W'')/W, B''' = (X''' - 3 B'' W' - 3 B' W'' - B W''')/W.
+   d1, d2, d3 may be NULL. */
+void aug_curve_jet(const aug_curve *c, double t, double b[2], double d1[2], double d2[2], double d3[2])
 {
-    double hh[4][3], q[AUG_CURVE_MAXDEG + 1][3];
+    double hh[4][3], q[AUG_CURVE_MAXDEG + 1][3], H[4][3] = {{0}};
     const double *hp;
     int n = aug_curve_homog(c, hh, &hp);
     memcpy(q, hp, (size_t)(n + 1) * 3 * sizeof(double));
-    double s = 1 - t, H[3], H1[3], H2[3];
-    for (int k = 1; k <= n - 2; k++)
-        for (int i = 0; i + k <= n; i++)
-            for (int j = 0; j < 3; j++) q[i][j] = s * q[i][j] + t * q[i + 1][j];
-    for (int j = 0; j < 3; j++) {
-        if (n == 1) {
-            H[j] = s * q[0][j] + t * q[1][j];
-            H1[j] = q[1][j] - q[0][j];
-            H2[j] = 0;
-        } else {
-            double s0 = s * q[0][j] + t * q[1][j], s1 = s * q[1][j] + t * q[2][j];
-            H[j] = s * s0 + t * s1;
-            H1[j] = n * (s1 - s0);
-            H2[j] = n * (n - 1) * (q[2][j] - 2 * q[1][j] + q[0][j]);
+    double s = 1 - t;
+    for (int k = 0; k <= n; k++) {
+        if (k > 0)
+            for (int i = 0; i + k <= n; i++)
+                for (int j = 0; j < 3; j++) q[i][j] = s * q[i][j] + t * q[i + 1][j];
+        int left = n - k; /* q[0..left] remain: H^(left) from them */
+        if (left > 3) continue;
+        double f = 1;
+        for (int i = 0; i < left; i++) f *= n - i;
+        for (int j = 0; j < 3; j++) {
+            double d = left == 0 ? q[0][j]
+                     : left == 1 ? q[1][j] - q[0][j]
+                     : left == 2 ? q[2][j] - 2 * q[1][j] + q[0][j]
+                                 : q[3][j] - 3 * q[2][j] + 3 * q[1][j] - q[0][j];
+            H[left][j] = f * d;
         }
     }
     for (int k = 0; k < 2; k++) {
-        double bk = H[k] / H[2], b1 = (H1[k] - bk * H1[2]) / H[2];
+        double W = H[0][2], bk = H[0][k] / W, b1 = (H[1][k] - bk * H[1][2]) / W;
+        double b2 = (H[2][k] - 2 * b1 * H[1][2] - bk * H[2][2]) / W;
         if (b) b[k] = bk;
         if (d1) d1[k] = b1;
-        if (d2) d2[k] = (H2[k] - 2 * b1 * H1[2] - bk * H2[2]) / H[2];
+        if (d2) d2[k] = b2;
+        if (d3) d3[k] = (H[3][k] - 3 * b2 * H[1][2] - 3 * b1 * H[2][2] - bk * H[3][2]) / W;
     }
 }

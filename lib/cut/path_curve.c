@@ -11,7 +11,7 @@
 void aug_curve_eval(const aug_curve *c, double t, double xy[2])
 {
     if (c->kind == AUG_CURVE_BEZIER) {
-        aug_curve_jet(c, t, xy, NULL, NULL);
+        aug_curve_jet(c, t, xy, NULL, NULL, NULL);
         return;
     }
     double s = 1 - t;
@@ -33,7 +33,7 @@ void aug_curve_deriv(const aug_curve *c, double t, double dxy[2])
 {
     if (c->kind == AUG_CURVE_BEZIER) {
         double b[2];
-        aug_curve_jet(c, t, b, dxy, NULL);
+        aug_curve_jet(c, t, b, dxy, NULL, NULL);
         return;
     }
     double s = 1 - t;

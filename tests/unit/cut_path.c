@@ -67,6 +67,8 @@ static int segs_are_edges(const aug_mesh *m, const double *seg, int64_t nseg)
     return ok;
 }
 
+static int chords; /* run_path: 1 = no kappa vertices (cut --chords) */
+
 static int run_path(aug_mesh *m, const char *text, int mode, int steps, int policy, double pull,
                     res2 *res)
 {
@@ -89,6 +91,7 @@ static int run_path(aug_mesh *m, const char *text, int mode, int steps, int poli
     C.policy = policy;
     C.pull = pull;
     aug_path_cut_init(&pc, &path, mode, 0.05);
+    pc.kappa = !chords;
     for (int step = 1; step <= steps && !t_cur_failed; step++) {
         aug_cut_step S;
         aug_cut_step_init(&S, step);
@@ -301,7 +304,7 @@ static void any_degree(void)
         for (int k = 0; k <= 20; k++) {
             double t = k / 20.0, a[2], b[2], d1[2], d2[2];
             bernstein((const double(*)[2])P, W, n, t, a);
-            aug_curve_jet(c, t, b, d1, d2);
+            aug_curve_jet(c, t, b, d1, d2, NULL);
             T_CHECK(hypot(a[0] - b[0], a[1] - b[1]) < 1e-13, "degree %d rat %d: B(%g) off by %g", n, rat, t,
                     hypot(a[0] - b[0], a[1] - b[1]));
             double h = 1e-4, p1[2], m1[2], p0[2];
@@ -395,6 +398,114 @@ static void low_degree(void)
             T_CHECK(res.steps == steps, "rational degree 4 after degree 5, mode %d: %d steps", mode, res.steps);
             aug_mesh_free(&m);
         }
+}
+
+/* kappa of the cubic with control points P (thesis eq. 3.8 with the cube),
+   from the power-basis derivatives, independently of the library */
+static double cubic_kappa(const double (*P)[2], double t)
+{
+    double d1[2], d2[2];
+    for (int k = 0; k < 2; k++) {
+        double a1 = 3 * (P[1][k] - P[0][k]), a2 = 3 * (P[0][k] - 2 * P[1][k] + P[2][k]);
+        double a3 = -P[0][k] + 3 * P[1][k] - 3 * P[2][k] + P[3][k];
+        d1[k] = a1 + 2 * a2 * t + 3 * a3 * t * t;
+        d2[k] = 2 * a2 + 6 * a3 * t;
+    }
+    return fabs(d1[0] * d2[1] - d1[1] * d2[0]) / pow(hypot(d1[0], d1[1]), 3);
+}
+
+/* the argmax of cubic_kappa on [t0, t1]: 100000 samples, then ternary search
+   around the best to 1e-13 (the test's own search) */
+static double dense_argmax(const double (*P)[2], double t0, double t1)
+{
+    int N = 100000, ib = 0;
+    double kb = -1;
+    for (int i = 0; i <= N; i++) {
+        double k = cubic_kappa(P, t0 + (t1 - t0) * i / N);
+        if (k > kb) {
+            kb = k;
+            ib = i;
+        }
+    }
+    double a = t0 + (t1 - t0) * (ib > 0 ? ib - 1 : 0) / N, b = t0 + (t1 - t0) * (ib < N ? ib + 1 : N) / N;
+    for (int it = 0; it < 200 && b - a > 1e-13; it++) {
+        double m1 = a + (b - a) / 3, m2 = b - (b - a) / 3;
+        if (cubic_kappa(P, m1) < cubic_kappa(P, m2)) a = m1;
+        else b = m2;
+    }
+    return 0.5 * (a + b);
+}
+
+/* the maximum curvature point (thesis eq. 3.8): the symmetric arch has it at
+   t = 1/2 with kappa = 6h / (1.5 (1 + a))^2 (closed form); random cubics
+   agree with the dense search to 1e-10 in kappa (relative) and 1e-7 in t;
+   kappa' = 0 there (central difference of cubic_kappa); circles and lines
+   have none; the max at an end of [t0, t1] is not interior */
+static void kappa_max(void)
+{
+    double a = 0.3, h = 0.6;
+    aug_curve c = {AUG_CURVE_CUBIC, {{-1, 0}, {-a, h}, {a, h}, {1, 0}}, 0, 1, 0, 0, NULL};
+    double tk, ex = 6 * h / pow(1.5 * (1 + a), 2);
+    T_CHECK(aug_curve_kappa_max(&c, 0, 1, &tk) && fabs(tk - 0.5) < 1e-10, "arch: t %.17g", tk);
+    T_CHECK(fabs(aug_curve_kappa(&c, tk) - ex) < 1e-12 * ex, "arch: kappa %.17g, closed form %.17g",
+            aug_curve_kappa(&c, tk), ex);
+    T_CHECK(fabs(dense_argmax((const double(*)[2])c.p, 0, 1) - 0.5) < 1e-7, "arch: the dense search disagrees");
+    T_CHECK(aug_curve_kappa_max(&c, 0, 0.4, &tk) == 0, "arch: the max of [0, 0.4] is at its end");
+    T_CHECK(aug_curve_kappa_max(&c, 0.3, 0.8, &tk) && fabs(tk - 0.5) < 1e-10, "arch on [0.3, 0.8]: %g", tk);
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 9);
+    int interior = 0;
+    for (int it = 0; it < 60 && !t_cur_failed; it++) {
+        aug_curve q;
+        memset(&q, 0, sizeof q);
+        q.kind = AUG_CURVE_CUBIC;
+        for (int i = 0; i < 4; i++)
+            for (int k = 0; k < 2; k++) q.p[i][k] = gsl_rng_uniform(r);
+        double t0 = 0.5 * gsl_rng_uniform(r), t1 = t0 + 0.1 + 0.4 * gsl_rng_uniform(r);
+        double td = dense_argmax((const double(*)[2])q.p, t0, t1);
+        double kd = cubic_kappa((const double(*)[2])q.p, td);
+        int in = aug_curve_kappa_max(&q, t0, t1, &tk);
+        int din = td > t0 + 1e-6 && td < t1 - 1e-6;
+        if (!in) {
+            T_CHECK(!din || kd <= fmax(cubic_kappa((const double(*)[2])q.p, t0), cubic_kappa((const double(*)[2])q.p, t1)) * (1 + 1e-6),
+                    "cubic %d: interior max at %g missed", it, td);
+            continue;
+        }
+        interior++;
+        double kt = cubic_kappa((const double(*)[2])q.p, tk), e = 1e-6 * (t1 - t0);
+        T_CHECK(kt >= kd * (1 - 1e-10), "cubic %d: kappa %.17g at %g, dense %.17g at %g", it, kt, tk, kd, td);
+        T_CHECK(fabs(tk - td) < 1e-7, "cubic %d: t %.17g, dense %.17g", it, tk, td);
+        double dk = (cubic_kappa((const double(*)[2])q.p, tk + e) - cubic_kappa((const double(*)[2])q.p, tk - e)) / (2 * e);
+        T_CHECK(fabs(dk) < 1e-4 * kt / (t1 - t0), "cubic %d: kappa' = %g at the max", it, dk);
+    }
+    T_CHECK(interior >= 10, "only %d interior maxima", interior);
+    aug_curve arc = {AUG_CURVE_RQUAD, {{2, 1}, {2, 2}, {1, 2}}, sqrt(0.5), 1, 0, 0, NULL};
+    aug_curve line = {AUG_CURVE_LINE, {{0, 0}, {1, 2}}, 0, 1, 0, 0, NULL};
+    T_CHECK(!aug_curve_kappa_max(&arc, 0, 1, &tk) && !aug_curve_kappa_max(&line, 0, 1, &tk), "circle or line: a max");
+    gsl_rng_free(r);
+}
+
+/* the cut gets a node at the curve's curvature maximum (inside one element
+   piece, away from the edges), on the curve, and none under chords */
+static void kappa_cut(void)
+{
+    static const char *text = "bezier 0.16 0.32 0.76 0.92 0.36 0.92 0.96 0.37\n";
+    double P[4][2] = {{0.16, 0.32}, {0.76, 0.92}, {0.36, 0.92}, {0.96, 0.37}}, B[2];
+    double td = dense_argmax((const double(*)[2])P, 0, 1);
+    aug_curve c = {AUG_CURVE_CUBIC, {{0.16, 0.32}, {0.76, 0.92}, {0.36, 0.92}, {0.96, 0.37}}, 0, 1, 0, 0, NULL};
+    aug_curve_eval(&c, td, B);
+    for (int ch = 0; ch < 2 && !t_cur_failed; ch++) {
+        aug_mesh m;
+        cc_square(&m, 8, 8, 1, 1, NULL, 0);
+        res2 res;
+        chords = ch;
+        run_path(&m, text, AUG_PATH_SPLIT, 1, AUG_DETACH_PIN, 0.0, &res);
+        chords = 0;
+        int at = nodes_at(&m, B[0], B[1], 1e-9);
+        T_CHECK(ch ? at == 0 : at == 2, "chords %d: %d nodes at the curvature maximum (%.6f, %.6f), t %.6f", ch, at,
+                B[0], B[1], td);
+        aug_mesh_free(&m);
+    }
 }
 
 static void random_text(gsl_rng *r, char *buf, size_t n)
@@ -576,6 +687,8 @@ int main(void)
     T_RUN(curve_roots);
     T_RUN(any_degree);
     T_RUN(low_degree);
+    T_RUN(kappa_max);
+    T_RUN(kappa_cut);
     T_RUN(degenerate);
     T_RUN(split_random);
     T_RUN(snap_random);
