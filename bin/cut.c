@@ -11,7 +11,7 @@
 
 static const char *synopsis =
     "cut [FILE] [--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--polygon PTS] [--per-step K] [--seed S]\n"
-    "           | --path PFILE [--mode split|snap] [--snap-tol T]]\n"
+    "           | --path PFILE [--mode split|snap] [--snap-tol T] [--chords]]\n"
     "           --steps N [--pull F] [--detached error|pin|drop|keep]\n"
     "           [--constrain SET|box:LO,HI[=u,v[,w]][@S]]... [--drag SET|box:LO,HI:dx,dy[,dz]]...\n"
     "           [--stats] [--deflate] [-h]";
@@ -28,6 +28,8 @@ static const char *help =
     "  --mode split|snap    split: new nodes where the path crosses edges (default);\n"
     "                       snap: separate along the mesh edges nearest the path\n"
     "  --snap-tol T         split mode: snap to a node within T of an edge (default 0.05)\n"
+    "  --chords             split mode: no vertex at the curvature maximum inside an\n"
+    "                       element, chords between the crossings only (thesis fig. 3.5)\n"
     "  --steps N            number of cut steps (N >= 1)\n"
     "  --pull F             opposing forces F on each node copy and its original\n"
     "  --detached POLICY    piece without Dirichlet support: error (default), pin, drop,\n"
@@ -45,7 +47,7 @@ static const char *help =
 
 typedef struct options {
     const char *file, *pathfile;
-    int plane, random_plane, have_adv, mode, policy, stats, deflate;
+    int plane, random_plane, have_adv, mode, policy, stats, deflate, chords;
     int npoly;                 /* --polygon vertices (3-D points) */
     double poly[3 * 64];
     double n[4], adv[3], pull, snap_tol;
@@ -121,6 +123,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_STRING("--path", &o->pathfile, "a file"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_FLAG("--stats", &o->stats)},
         {AUG_OPT_FLAG("--deflate", &o->deflate)},
+        {AUG_OPT_FLAG("--chords", &o->chords)},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (!nsteps) aug_tool_usage(t, "--steps N is required");
@@ -188,6 +191,7 @@ int main(int argc, char **argv)
         c.pull_dir = pc.n; /* pull the cut faces apart along the plane's normal */
     } else if (o.pathfile) {
         aug_path_cut_init(&pp, &o.path, o.mode, o.snap_tol);
+        pp.kappa = !o.chords;
     }
     int64_t nseg = 0; /* segments of the path inside the mesh, over every step */
     for (long k = 1; k <= o.steps; k++) {

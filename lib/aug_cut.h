@@ -290,20 +290,40 @@ int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg,
 void aug_plane_free(aug_plane_cut *pc);
 
 /* ---- Cut paths in 2-D (thesis ch. 3.1, 3.6) ---- */
-enum { AUG_CURVE_LINE = 1, AUG_CURVE_CUBIC = 2, AUG_CURVE_RQUAD = 3 };
+enum { AUG_CURVE_LINE = 1, AUG_CURVE_CUBIC = 2, AUG_CURVE_RQUAD = 3, AUG_CURVE_BEZIER = 4 };
+#define AUG_CURVE_MAXDEG 64      /* highest degree of a general Bezier curve */
 typedef struct aug_curve {
     int kind;
     double p[4][2];              /* control points: line 2, cubic 4, rational quadratic 3 */
     double w;                    /* middle weight of the rational quadratic (end weights 1) */
     int newstroke;               /* 1: does not continue the previous curve */
     int line;                    /* line of the path file it came from */
+    int deg;                     /* AUG_CURVE_BEZIER: degree n, 1..AUG_CURVE_MAXDEG */
+    double *h;                   /* AUG_CURVE_BEZIER: n+1 homogeneous points (w x, w y, w),
+                                    w = 1 for a polynomial curve; owned by the aug_path */
 } aug_curve;
 void aug_curve_eval(const aug_curve *c, double t, double xy[2]);
 void aug_curve_deriv(const aug_curve *c, double t, double dxy[2]);
+/* B(t) and its first three derivatives, any kind (de Casteljau on the
+   homogeneous points, thesis 003 eqs. 3.4-3.6); d1, d2, d3 may be NULL. */
+void aug_curve_jet(const aug_curve *c, double t, double b[2], double d1[2], double d2[2], double d3[2]);
+/* The degree and the homogeneous control points (w x, w y, w) of any kind, at
+   most AUG_CURVE_MAXDEG + 1 of them; the pointer is h or c->h. */
+int aug_curve_homog(const aug_curve *c, double (*h)[3], const double **hp);
 /* Parameters t in [t0, t1] where the curve meets the line through a and b,
-   increasing; returns their count (<= 3), -1 when the curve lies on the line. */
+   increasing; returns their count (<= max(3, degree), t has room for
+   AUG_CURVE_MAXDEG), -1 when the curve lies on the line. */
 int aug_curve_line_roots(const aug_curve *c, const double a[2], const double b[2], double t0,
-                         double t1, double t[3]);
+                         double t1, double *t);
+/* Roots in [t0, t1] of the Bernstein polynomial sum b_i beta_{n,i}(t)
+   (thesis eq. 3.5), increasing, at most n; -1 when it vanishes. */
+int aug_bernstein_roots(const double *b, int n, double t0, double t1, double *t);
+/* Curvature kappa(t) = |B' x B''| / |B'|^3 (thesis eq. 3.8, with the cube
+   that makes it the curvature); +inf where B' = 0. */
+double aug_curve_kappa(const aug_curve *c, double t);
+/* The t of maximal kappa on [t0, t1] (sampled bracket, then kappa' = 0);
+   1 when it lies inside (not at an end, kappa above both ends), 0 else. */
+int aug_curve_kappa_max(const aug_curve *c, double t0, double t1, double *tk);
 
 typedef struct aug_path {
     int n;
@@ -351,6 +371,8 @@ typedef struct aug_path_cut {
     const aug_path *path;
     int mode;
     double tol;                  /* snap tolerance, relative to the edge or altitude */
+    int kappa;                   /* split mode: a vertex at the curvature maximum of each
+                                    piece in an element (thesis eq. 3.8); 1 by init */
     double s;                    /* arc length realised so far */
     int32_t node;                /* walk state: current node, -1 outside the mesh */
     int curve;                   /* curve of the walk state */

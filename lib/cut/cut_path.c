@@ -1,6 +1,7 @@
 /* Path cuts through tri3 meshes (thesis ch. 3.1, 3.6): walk the curve from node
    to node through the element stars, insert (split) or snap to the points
-   where it leaves each star, then separate the realised cut edges. */
+   where it leaves each star (and, split mode, the point of maximum curvature
+   inside each element, thesis sec. 3.1.2), then separate the realised cut edges. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,6 +28,7 @@ int aug_path_cut_init(aug_path_cut *pc, const aug_path *path, int mode, double t
     pc->path = path;
     pc->mode = mode;
     pc->tol = tol;
+    pc->kappa = 1;
     pc->node = -1;
     pc->curve = -1;
     return 0;
@@ -217,7 +219,7 @@ typedef struct hit {
 static int edge_hit(const walk *w, int32_t a, int32_t b, double t, double t1, int32_t n, int strict,
                     hit *h)
 {
-    double r[3];
+    double r[AUG_CURVE_MAXDEG];
     const double *pa = X(w, a), *pb = X(w, b);
     int k = aug_curve_line_roots(w->c, pa, pb, t, t1, r);
     double L2 = (pb[0] - pa[0]) * (pb[0] - pa[0]) + (pb[1] - pa[1]) * (pb[1] - pa[1]);
@@ -278,7 +280,7 @@ static int32_t enter(walk *w, double *t, double t1, int32_t skip, int at_start)
         for (int k = 0; k < 3; k++) {
             int32_t a = c[k], b = c[(k + 1) % 3];
             if (a == skip || b == skip || !boundary_edge(w, a, b)) continue;
-            double r[3];
+            double r[AUG_CURVE_MAXDEG];
             int nr = aug_curve_line_roots(w->c, X(w, a), X(w, b), *t, t1, r);
             for (int i = 0; i < nr; i++) {
                 const double *pa = X(w, a), *pb = X(w, b);
@@ -328,12 +330,25 @@ static int32_t enter(walk *w, double *t, double t1, int32_t skip, int at_start)
     return got;
 }
 
+/* The piece of the curve over [t, tn] inside a triangle of star(n): its
+   point of maximum curvature (thesis 003 sec. 3.1.2, figs. 3.6, 3.20, eq. 3.8,
+   aug_curve_kappa_max), when inside the piece, as a node (in_tri, the snap
+   tolerance applies); n when there is none, -1 on failure. */
+static int32_t kappa_node(walk *w, int32_t n, double t, double tn, double *tk)
+{
+    double q[2], l[3];
+    if (!aug_curve_kappa_max(w->c, t, tn, tk)) return n;
+    aug_curve_eval(w->c, *tk, q);
+    int64_t tri = star_tri(w, n, q, l);
+    return tri < 0 ? n : in_tri(w, tri, l);
+}
+
 /* Walk curve w->c over [t, t1] from the state node; see the file comment. */
 static int walk_curve(walk *w, double t, double t1, int fresh)
 {
     aug_path_cut *pc = w->pc;
     int32_t n = pc->node;
-    double q[2];
+    double q[2], kdone = -1;      /* the end of the last piece given its kappa node */
     if (n < 0) {
         n = enter(w, &t, t1, -1, fresh);
         if (n == -2) return w->e->code;
@@ -364,7 +379,18 @@ static int walk_curve(walk *w, double t, double t1, int fresh)
                 best = hh;
         }
         int32_t y;
-        double tn;
+        double tn = best.a >= 0 && best.t <= t1 ? best.t : t1, tk;
+        if (pc->kappa && pc->mode == AUG_PATH_SPLIT && tn > kdone + 1e-9) {
+            kdone = tn;
+            y = kappa_node(w, n, t, tn, &tk);
+            if (y < 0) return w->e->code ? w->e->code : NOMEM();
+            if (y != n) {
+                if (add_seg(w, n, y)) return NOMEM();
+                n = y;
+                t = tk;
+                continue;
+            }
+        }
         if (best.a >= 0 && best.t <= t1) {
             tn = best.t;
             y = on_edge(w, best.a, best.b, best.s);

@@ -1,14 +1,19 @@
-/* Cut path curves: line, cubic Bezier (thesis eq. 3.1) and rational quadratic
-   Bezier (thesis eq. 3.7); their intersections with straight lines (eq. 3.3). */
+/* Cut path curves: line, cubic Bezier (thesis eq. 3.1), rational quadratic
+   Bezier (thesis eq. 3.7), and (path_bezier.c) any degree, rational or not;
+   their intersections with straight lines (eq. 3.3). */
 #include <math.h>
 #include <string.h>
-#include <gsl/gsl_poly.h>
 #include "aug_cut.h"
 
 /* B(t): line (1-t) P0 + t P1; cubic Bezier (thesis 003 eq. 3.1); rational
-   quadratic Bezier with weights 1, w, 1 (eq. 3.7) */
+   quadratic Bezier with weights 1, w, 1 (eq. 3.7); any other degree by
+   de Casteljau (eqs. 3.4-3.6, aug_curve_jet) */
 void aug_curve_eval(const aug_curve *c, double t, double xy[2])
 {
+    if (c->kind == AUG_CURVE_BEZIER) {
+        aug_curve_jet(c, t, xy, NULL, NULL, NULL);
+        return;
+    }
     double s = 1 - t;
     for (int k = 0; k < 2; k++) {
         if (c->kind == AUG_CURVE_LINE)
@@ -23,9 +28,14 @@ void aug_curve_eval(const aug_curve *c, double t, double xy[2])
     }
 }
 
-/* B'(t) of the three kinds (the quotient rule for the rational arc) */
+/* B'(t) of the four kinds (the quotient rule for the rational ones) */
 void aug_curve_deriv(const aug_curve *c, double t, double dxy[2])
 {
+    if (c->kind == AUG_CURVE_BEZIER) {
+        double b[2];
+        aug_curve_jet(c, t, b, dxy, NULL, NULL);
+        return;
+    }
     double s = 1 - t;
     for (int k = 0; k < 2; k++) {
         if (c->kind == AUG_CURVE_LINE)
@@ -43,87 +53,31 @@ void aug_curve_deriv(const aug_curve *c, double t, double dxy[2])
     }
 }
 
-static double poly(const double *c, double t) { return ((c[3] * t + c[2]) * t + c[1]) * t + c[0]; }
-static double dpoly(const double *c, double t) { return (3 * c[3] * t + 2 * c[2]) * t + c[1]; }
-
-/* Roots of c3 t^3 + c2 t^2 + c1 t + c0 in [t0, t1]: the cubic by
-   gsl_poly_solve_cubic (or the quadratic / linear when the leading terms
-   vanish), each polished by Newton steps on the full polynomial. */
-static int roots(const double *c, double t0, double t1, double *out)
-{
-    double cm = fmax(fmax(fabs(c[0]), fabs(c[1])), fmax(fabs(c[2]), fabs(c[3])));
-    double r[3];
-    int n = 0;
-    if (cm == 0) return -1;
-    if (fabs(c[3]) > 1e-10 * cm)
-        n = gsl_poly_solve_cubic(c[2] / c[3], c[1] / c[3], c[0] / c[3], &r[0], &r[1], &r[2]);
-    else if (fabs(c[2]) > 1e-10 * cm)
-        n = gsl_poly_solve_quadratic(c[2], c[1], c[0], &r[0], &r[1]);
-    else if (fabs(c[1]) > 1e-10 * cm) {
-        r[0] = -c[0] / c[1];
-        n = 1;
-    } else
-        return -1;
-    int k = 0;
-    double span = t1 - t0, eps = 1e-12 * (span > 0 ? span : 1);
-    for (int i = 0; i < n; i++) {
-        double t = r[i];
-        for (int it = 0; it < 3; it++) {
-            double d = dpoly(c, t);
-            if (d == 0) break;
-            double nt = t - poly(c, t) / d;
-            if (!isfinite(nt) || fabs(nt - t) > 0.1 * (span > 0 ? span : 1)) break;
-            t = nt;
-        }
-        if (t < t0 - eps || t > t1 + eps) continue;
-        t = t < t0 ? t0 : (t > t1 ? t1 : t);
-        int dup = 0;
-        for (int j = 0; j < k; j++) dup |= fabs(out[j] - t) <= eps;
-        if (!dup) out[k++] = t;
-    }
-    for (int i = 1; i < k; i++)
-        for (int j = i; j > 0 && out[j - 1] > out[j]; j--) {
-            double x = out[j];
-            out[j] = out[j - 1];
-            out[j - 1] = x;
-        }
-    return k;
-}
-
 /* the t in [t0, t1] where B(t) meets the line through a and b (thesis 003 eq. 3.3):
-   roots of n.(B(t) - a), n normal to ab, a polynomial of degree <= 3 from the
-   Bernstein coefficients n.(P_i - a) (the rational arc's numerator, weights
-   applied); ascending, at most 3; -1 when that polynomial is constant (the curve
-   on the line or parallel to it) */
+   roots of n.(B(t) - a), n normal to ab; g(x) = n.(x - a) is affine, so the
+   numerator of g(B(t)) has the Bernstein coefficients w_i g(P_i) (eqs. 3.5,
+   3.6), solved by aug_bernstein_roots; ascending; -1 when all g(P_i) vanish
+   (the curve on the line) */
 int aug_curve_line_roots(const aug_curve *c, const double a[2], const double b[2], double t0,
-                         double t1, double t[3])
+                         double t1, double *t)
 {
-    /* g(x) = n . (x - a), n normal to ab; g is affine, so g(B(t)) has the
-       Bernstein coefficients g(P_i) (times the weights for the rational arc) */
-    double n[2] = {-(b[1] - a[1]), b[0] - a[0]}, g[4] = {0, 0, 0, 0}, cf[4] = {0, 0, 0, 0};
-    int np = c->kind == AUG_CURVE_LINE ? 2 : (c->kind == AUG_CURVE_CUBIC ? 4 : 3);
-    double ext = 0;
-    for (int i = 0; i < np; i++) {
-        g[i] = n[0] * (c->p[i][0] - a[0]) + n[1] * (c->p[i][1] - a[1]);
-        ext = fmax(ext, fabs(c->p[i][0] - a[0]) + fabs(c->p[i][1] - a[1]));
+    double hh[4][3], g[AUG_CURVE_MAXDEG + 1];
+    const double *h;
+    int n = aug_curve_homog(c, hh, &h);
+    double nv[2] = {-(b[1] - a[1]), b[0] - a[0]}, ext = 0, gm = 0;
+    for (int i = 0; i <= n; i++) {
+        const double *hi = h + 3 * i;
+        double x = hi[0] / hi[2], y = hi[1] / hi[2];
+        if (c->kind != AUG_CURVE_BEZIER) {
+            x = c->p[i][0];
+            y = c->p[i][1];
+        }
+        double gi = nv[0] * (x - a[0]) + nv[1] * (y - a[1]);
+        ext = fmax(ext, fabs(x - a[0]) + fabs(y - a[1]));
+        gm = fmax(gm, fabs(gi));
+        g[i] = c->kind == AUG_CURVE_RQUAD && i == 1 ? c->w * gi : (c->kind == AUG_CURVE_BEZIER ? hi[2] * gi : gi);
     }
-    double nl = fabs(n[0]) + fabs(n[1]);
-    if (c->kind == AUG_CURVE_LINE) {
-        cf[0] = g[0];
-        cf[1] = g[1] - g[0];
-    } else if (c->kind == AUG_CURVE_CUBIC) {
-        cf[0] = g[0];
-        cf[1] = 3 * (g[1] - g[0]);
-        cf[2] = 3 * (g[0] - 2 * g[1] + g[2]);
-        cf[3] = -g[0] + 3 * g[1] - 3 * g[2] + g[3];
-    } else {
-        double b1 = c->w * g[1];
-        cf[0] = g[0];
-        cf[1] = 2 * (b1 - g[0]);
-        cf[2] = g[0] - 2 * b1 + g[2];
-    }
-    double gm = 0;
-    for (int i = 0; i < np; i++) gm = fmax(gm, fabs(g[i]));
+    double nl = fabs(nv[0]) + fabs(nv[1]);
     if (gm <= 1e-12 * nl * (ext > 0 ? ext : 1)) return -1;
-    return roots(cf, t0, t1, t);
+    return aug_bernstein_roots(g, n, t0, t1, t);
 }

@@ -1,5 +1,5 @@
-/* The path file (man/cut.1, PATH FILE): lines, polylines, cubic and rational
-   quadratic Bezier curves, circles; strokes; arc-length parametrisation. */
+/* The path file (man/cut.1, PATH FILE): lines, polylines, Bezier and rational
+   Bezier curves of any degree, arcs, circles; strokes; arc-length parametrisation. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,6 +7,8 @@
 
 void aug_path_free(aug_path *p)
 {
+    for (int i = 0; i < p->n; i++)
+        if (p->c[i].kind == AUG_CURVE_BEZIER) free(p->c[i].h);
     free(p->c);
     free(p->s0);
     free(p->tab);
@@ -41,17 +43,49 @@ static int numbers(char *s, double *v, int max)
     return n;
 }
 
-static const double *last_point(const aug_curve *c)
+/* the end point of curve c */
+static void last_point(const aug_curve *c, double q[2])
 {
-    return c->kind == AUG_CURVE_LINE ? c->p[1] : (c->kind == AUG_CURVE_CUBIC ? c->p[3] : c->p[2]);
+    if (c->kind == AUG_CURVE_BEZIER) {
+        const double *h = c->h + 3 * c->deg;
+        q[0] = h[0] / h[2];
+        q[1] = h[1] / h[2];
+        return;
+    }
+    const double *e = c->kind == AUG_CURVE_LINE ? c->p[1] : (c->kind == AUG_CURVE_CUBIC ? c->p[3] : c->p[2]);
+    q[0] = e[0];
+    q[1] = e[1];
 }
 
 static int degenerate(const aug_curve *c)
 {
+    if (c->kind == AUG_CURVE_BEZIER) {
+        const double *h = c->h;
+        for (int i = 1; i <= c->deg; i++)
+            if (h[3 * i] / h[3 * i + 2] != h[0] / h[2] || h[3 * i + 1] / h[3 * i + 2] != h[1] / h[2]) return 0;
+        return 1;
+    }
     int np = c->kind == AUG_CURVE_LINE ? 2 : (c->kind == AUG_CURVE_CUBIC ? 4 : 3);
     for (int i = 1; i < np; i++)
         if (c->p[i][0] != c->p[0][0] || c->p[i][1] != c->p[0][1]) return 0;
     return 1;
+}
+
+/* a general Bezier curve of degree n from n+1 points (stride 2, weights 1) or
+   n+1 (x, y, w) triples (stride 3): homogeneous points (w x, w y, w) */
+static int general(aug_curve *c, const double *v, int n, int stride)
+{
+    c->kind = AUG_CURVE_BEZIER;
+    c->deg = n;
+    c->h = aug_malloc((size_t)(n + 1) * 3 * sizeof *c->h);
+    if (!c->h) return -1;
+    for (int i = 0; i <= n; i++) {
+        double w = stride == 3 ? v[3 * i + 2] : 1;
+        c->h[3 * i] = w * v[stride * i];
+        c->h[3 * i + 1] = w * v[stride * i + 1];
+        c->h[3 * i + 2] = w;
+    }
+    return 0;
 }
 
 #define MAXNUM 4096
@@ -104,12 +138,27 @@ int aug_path_parse(FILE *f, const char *name, aug_path *p, aug_err *e)
                 if (degenerate(&c)) FAIL("polyline segment %d has zero length", i / 2 + 1);
                 if (add_curve(p, &cap, &c)) goto nomem;
             }
-        } else if (strcmp(kw, "bezier") == 0) {
-            if (nv != 8) FAIL("'bezier' takes 8 numbers: x0 y0 x1 y1 x2 y2 x3 y3");
+        } else if (strcmp(kw, "bezier") == 0 && nv == 8) {
             c.kind = AUG_CURVE_CUBIC;
             memcpy(c.p, v, 8 * sizeof *v);
             if (degenerate(&c)) FAIL("the curve is a point");
             if (add_curve(p, &cap, &c)) goto nomem;
+        } else if (strcmp(kw, "bezier") == 0 || strcmp(kw, "rbezier") == 0) {
+            int st = kw[0] == 'r' ? 3 : 2, n = nv / st - 1;
+            if (nv % st || n < 1 || n > AUG_CURVE_MAXDEG)
+                FAIL("'%s' takes %s of n+1 control points, degree 1 <= n <= %d", kw,
+                     st == 3 ? "x y w triples" : "x y pairs", AUG_CURVE_MAXDEG);
+            for (int i = 0; st == 3 && i <= n; i++)
+                if (!(v[3 * i + 2] > 0)) FAIL("weight %d of the rbezier is not positive", i);
+            if (general(&c, v, n, st)) goto nomem;
+            if (degenerate(&c)) {
+                free(c.h);
+                FAIL("the curve is a point");
+            }
+            if (add_curve(p, &cap, &c)) {
+                free(c.h);
+                goto nomem;
+            }
         } else if (strcmp(kw, "arc") == 0) {
             if (nv != 7) FAIL("'arc' takes 7 numbers: x0 y0 x1 y1 x2 y2 w");
             if (!(v[6] > 0)) FAIL("the arc weight must be positive");
@@ -121,7 +170,8 @@ int aug_path_parse(FILE *f, const char *name, aug_path *p, aug_err *e)
         } else if (strcmp(kw, "circle") == 0) {
             if (nv != 3) FAIL("'circle' takes 3 numbers: cx cy r");
             if (!(v[2] > 0)) FAIL("the radius must be positive");
-            /* four quarter arcs, w = cos(45 deg) (thesis fig. 3.1), counter-clockwise */
+            /* four quarter arcs (thesis fig. 3.1), counter-clockwise; the circular weight
+               is w = cos(theta/2) with theta = 90 deg the sweep of each */
             double cx = v[0], cy = v[1], r = v[2];
             double pts[9][2] = {{cx + r, cy}, {cx + r, cy + r}, {cx, cy + r}, {cx - r, cy + r},
                                 {cx - r, cy}, {cx - r, cy - r}, {cx, cy - r}, {cx + r, cy - r},
@@ -133,7 +183,7 @@ int aug_path_parse(FILE *f, const char *name, aug_path *p, aug_err *e)
                 if (add_curve(p, &cap, &c)) goto nomem;
             }
         } else {
-            FAIL("unknown keyword '%s' (line, polyline, bezier, arc, circle)", kw);
+            FAIL("unknown keyword '%s' (line, polyline, bezier, rbezier, arc, circle)", kw);
         }
         /* a curve continues the stroke when it starts where the previous one ends */
         for (int i = start; i < p->n; i++) {
@@ -142,9 +192,12 @@ int aug_path_parse(FILE *f, const char *name, aug_path *p, aug_err *e)
                 ci->newstroke = 1;
                 continue;
             }
-            const double *q = last_point(&p->c[i - 1]);
+            double q[2];
+            last_point(&p->c[i - 1], q);
             double tol = 1e-9 * fmax(1.0, fmax(fabs(q[0]), fabs(q[1])));
-            ci->newstroke = !(fabs(q[0] - ci->p[0][0]) <= tol && fabs(q[1] - ci->p[0][1]) <= tol);
+            double f[2] = {ci->p[0][0], ci->p[0][1]};
+            if (ci->kind == AUG_CURVE_BEZIER) aug_curve_eval(ci, 0, f);
+            ci->newstroke = !(fabs(q[0] - f[0]) <= tol && fabs(q[1] - f[1]) <= tol);
         }
     }
     if (ferror(f)) FAIL("read error");

@@ -19,6 +19,7 @@ void aug_refine_opt_default(aug_refine_opt *o)
 {
     memset(o, 0, sizeof *o);
     o->max_aspect = 3;
+    o->min_angle = 20; /* beyond the thesis (aspect alone passes 1-degree angles); 0: the thesis */
     o->max_aspect3 = 3;
     o->max_level3 = 3;
     o->flip = 1;

@@ -1,4 +1,4 @@
-"""check_refine.py IN OUT [--max-aspect A]
+"""check_refine.py IN OUT [--max-aspect A] [--min-angle DEG]
 Checks refine's output OUT against its input IN, both read independently of the
 C library (augstream.py, cutsys.py, conform.py): every record that is not
 per-step is passed through unchanged and in order; per step, MDLT/BDLT/UPDT are
@@ -13,8 +13,9 @@ K_t and f_t accumulated from K_0 (KMAT, checked against an assembly, or
 assembled) and the UPDTs equal the system assembled from scratch on the refined
 mesh to 1e-12 * max|K|. In 2-D at the end: every open edge lies on the outer
 boundary or on a pATH segment, every pATH segment is a union of mesh edges on
-both sides, and no triangle exceeds the aspect bound except in a corner too
-sharp for any triangle. Prints a summary; exit 1 on the first failure."""
+both sides, and no triangle exceeds the aspect bound (with --min-angle: has
+an angle below DEG) except in a corner between two open edges too sharp for
+any triangle. Prints a summary; exit 1 on the first failure."""
 import math
 import os
 import struct
@@ -56,6 +57,7 @@ def main():
     bound = 3.0
     if "--max-aspect" in a:
         bound = float(a[a.index("--max-aspect") + 1])
+    min_angle = float(a[a.index("--min-angle") + 1]) if "--min-angle" in a else 0.0
     rin = augstream.records(open(a[0], "rb").read())
     rout = augstream.records(open(a[1], "rb").read())
     # 1. records that are not per-step: the same, in order (refine adds one pROv)
@@ -205,32 +207,38 @@ def main():
                     reach = max(reach, t1)
             if reach < 1 - 1e-9:
                 fail("pATH segment %d %s is not covered by edges on one side (to %.3g)" % (i, segs[i], reach))
-    # aspect bound, except corners between two open edges sharper than 2 asin(1/2A)
-    thmin = 2 * math.asin(1 / (2 * bound))
-    worst, sharp = 0.0, 0
+    # aspect bound (and min angle), except corners between two open edges
+    # sharper than 2 asin(1/2A) (or than the min angle)
+    thmin = max(2 * math.asin(1 / (2 * bound)), math.radians(min_angle))
+    worst, sharp, amin = 0.0, 0, 180.0
     for e, c in enumerate(conn):
         P = [x[v] for v in c]
         L = [math.dist(P[i], P[(i + 1) % 3]) for i in range(3)]
         asp = max(L) / min(L)
-        if asp <= bound * (1 + 1e-9):
-            worst = max(worst, asp)
-            continue
-        corner = False
+        angs = []
         for i in range(3):
             u = [P[(i + 1) % 3][k] - P[i][k] for k in range(2)]
             w = [P[(i + 2) % 3][k] - P[i][k] for k in range(2)]
-            ang = math.atan2(abs(u[0] * w[1] - u[1] * w[0]), u[0] * w[0] + u[1] * w[1])
+            angs.append(math.atan2(abs(u[0] * w[1] - u[1] * w[0]), u[0] * w[0] + u[1] * w[1]))
+        small = math.degrees(min(angs)) < min_angle * (1 - 1e-9)
+        if asp <= bound * (1 + 1e-9) and not small:
+            worst = max(worst, asp)
+            amin = min(amin, math.degrees(min(angs)))
+            continue
+        corner = False
+        for i in range(3):
             e1 = len(faces[tuple(sorted((c[i], c[(i + 1) % 3])))]) == 1
             e2 = len(faces[tuple(sorted((c[i], c[(i + 2) % 3])))]) == 1
-            corner = corner or (ang < thmin and e1 and e2)
+            corner = corner or (angs[i] < thmin and e1 and e2)
         if not corner:
-            fail("triangle %d has aspect %.4g > %g" % (e, asp, bound))
+            fail("triangle %d has aspect %.4g > %g or an angle %.4g < %g" % (e, asp, bound, math.degrees(min(angs)), min_angle))
         sharp += 1
     for s, q in qual.items():
         if q["aspect_max"] > bound * (1 + 1e-9) and not sharp:
             fail("step %d: qUAl aspect_max %g" % (s, q["aspect_max"]))
     print("check_refine: %d steps, %d nodes, %d triangles, area %.15g, %d cut segments, max aspect %.4f, "
-          "%d triangles in sharp corners" % (len(steps), len(x), len(conn), sum(vols), len(segs), worst, sharp))
+          "min angle %.4f, %d triangles in sharp corners" % (len(steps), len(x), len(conn), sum(vols), len(segs),
+                                                            worst, amin, sharp))
 
 
 main()

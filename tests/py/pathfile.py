@@ -1,6 +1,7 @@
 """The path file of cut(1) (PATH FILE), read from the manual only, for the
-test oracles: line, polyline, cubic Bezier, rational quadratic arc (weights
-1, w, 1) and circle (four quarter arcs, w = cos 45 deg, counter-clockwise from
+test oracles: line, polyline, Bezier of degree n (2(n+1) numbers; the
+Bernstein sum), rational Bezier rbezier (n+1 triples x y w), rational
+quadratic arc (weights 1, w, 1) and circle (four quarter arcs, w = cos 45 deg, counter-clockwise from
 (cx + r, cy)); '#' comments; numbers separated by blanks or commas. The path
 is advanced by arc length over all its items (gaps between strokes do not
 count)."""
@@ -9,15 +10,22 @@ import math
 COUNT = {"line": 4, "bezier": 8, "arc": 7, "circle": 3}
 
 
+def bernstein(P, W, t):
+    """sum w_i P_i C(n,i) t^i (1-t)^(n-i) / sum w_i C(n,i) t^i (1-t)^(n-i)"""
+    n = len(P) - 1
+    b = [W[i] * math.comb(n, i) * t ** i * (1 - t) ** (n - i) for i in range(n + 1)]
+    return tuple(sum(b[i] * P[i][k] for i in range(n + 1)) / sum(b) for k in (0, 1))
+
+
 def item(kind, v):
     """the point function [0, 1] -> (x, y) of one item"""
+    if kind in ("bezier", "rbezier"):
+        st = 3 if kind == "rbezier" else 2
+        P = [(v[i], v[i + 1]) for i in range(0, len(v), st)]
+        W = [v[i + 2] for i in range(0, len(v), 3)] if st == 3 else [1.0] * len(P)
+        return lambda t: bernstein(P, W, t)
     if kind == "line":
         return lambda t: (v[0] + t * (v[2] - v[0]), v[1] + t * (v[3] - v[1]))
-    if kind == "bezier":
-        def cubic(t):
-            b = ((1 - t) ** 3, 3 * t * (1 - t) ** 2, 3 * t * t * (1 - t), t ** 3)
-            return tuple(sum(b[i] * v[2 * i + k] for i in range(4)) for k in (0, 1))
-        return cubic
     w = v[6]
 
     def arc(t):
@@ -43,6 +51,10 @@ def read(name):
                 a = [(cx + r * math.cos(math.pi / 2 * k), cy + r * math.sin(math.pi / 2 * k)) for k in (q, q + 1)]
                 c = (a[0][0] + a[1][0] - cx, a[0][1] + a[1][1] - cy)  # the corner between them
                 out.append(item("arc", [a[0][0], a[0][1], c[0], c[1], a[1][0], a[1][1], w]))
+        elif words[0] == "bezier" and len(v) % 2 == 0 and len(v) >= 4:
+            out.append(item("bezier", v))
+        elif words[0] == "rbezier" and len(v) % 3 == 0 and len(v) >= 6:
+            out.append(item("rbezier", v))
         elif words[0] in COUNT and len(v) == COUNT[words[0]]:
             out.append(item(words[0], v))
         else:

@@ -2,7 +2,9 @@
    rational Bezier paths in split and snap mode, and the degenerate cases (through
    nodes, along edges, tangent, partial, cross, overlapping, cut-out), with the
    invariants of every step: K_t and f_t from scratch == the accumulated updates,
-   area, no sliver, conformity (angle sums), realised segments are mesh edges. */
+   area, no sliver, conformity (angle sums), realised segments are mesh edges;
+   Bezier and rational Bezier curves of any degree against the Bernstein sum,
+   degree 1 and 2 against the line and the arc, a degree-5 cut. */
 #include "t.h"
 #include "cut_check.h"
 
@@ -65,6 +67,8 @@ static int segs_are_edges(const aug_mesh *m, const double *seg, int64_t nseg)
     return ok;
 }
 
+static int chords; /* run_path: 1 = no kappa vertices (cut --chords) */
+
 static int run_path(aug_mesh *m, const char *text, int mode, int steps, int policy, double pull,
                     res2 *res)
 {
@@ -87,6 +91,7 @@ static int run_path(aug_mesh *m, const char *text, int mode, int steps, int poli
     C.policy = policy;
     C.pull = pull;
     aug_path_cut_init(&pc, &path, mode, 0.05);
+    pc.kappa = !chords;
     for (int step = 1; step <= steps && !t_cur_failed; step++) {
         aug_cut_step S;
         aug_cut_step_init(&S, step);
@@ -170,8 +175,10 @@ static void parse_errors(void)
     static const char *bad[] = {"line 0 0 1\n", "bezier 0 0 1 1 2 2 3\n", "arc 0 0 1 0 1 1 0\n",
                                 "circle 0 0 -1\n", "spline 0 0 1 1\n", "line 0 0 1 x\n",
                                 "# nothing\n", "line 0 0 0 0\n", "polyline 0 0 1 1 2\n",
-                                "line 0 0 1 nan\n"};
-    static const int badline[] = {1, 1, 1, 1, 1, 1, 0, 1, 1, 1};
+                                "line 0 0 1 nan\n", "bezier 0 0\n", "rbezier 0 0 1 1 1 0\n",
+                                "rbezier 0 0 1 1 1\n", "bezier 1 1 1 1 1 1 1 1 1 1\n",
+                                "line 0 0 1 1\nrbezier 0 0 1 1 1 -2\n"};
+    static const int badline[] = {1, 1, 1, 1, 1, 1, 0, 1, 1, 1, 1, 1, 1, 1, 2};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         aug_path p;
         aug_err e;
@@ -234,13 +241,271 @@ static void curve_roots(void)
     }
     T_CHECK(checked > 2900, "only %d of 3000 root counts matched", checked);
     /* the quarter arc with w = cos 45 deg is on the circle */
-    aug_curve q = {AUG_CURVE_RQUAD, {{2, 1}, {2, 2}, {1, 2}}, sqrt(0.5), 1, 0};
+    aug_curve q = {AUG_CURVE_RQUAD, {{2, 1}, {2, 2}, {1, 2}}, sqrt(0.5), 1, 0, 0, NULL};
     for (int k = 0; k <= 16; k++) {
         double p[2];
         aug_curve_eval(&q, k / 16.0, p);
         T_CHECK(fabs(hypot(p[0] - 1, p[1] - 1) - 1) < 1e-14, "arc point off the circle");
     }
     gsl_rng_free(r);
+}
+
+/* sum w_i P_i beta_{n,i}(t) / sum w_i beta_{n,i}(t) (thesis eqs. 3.5, 3.6), computed
+   here from the binomials, independently of de Casteljau */
+static void bernstein(const double (*P)[2], const double *W, int n, double t, double *xy)
+{
+    double num[2] = {0, 0}, den = 0, binom = 1;
+    for (int i = 0; i <= n; i++) {
+        double b = binom * pow(t, i) * pow(1 - t, n - i) * W[i];
+        num[0] += b * P[i][0];
+        num[1] += b * P[i][1];
+        den += b;
+        binom = binom * (n - i) / (i + 1);
+    }
+    xy[0] = num[0] / den;
+    xy[1] = num[1] / den;
+}
+
+static int parse_one(const char *text, aug_path *p)
+{
+    aug_err e;
+    int rc = parse_text(text, p, &e);
+    T_CHECK(rc == 0 && p->n == 1, "'%.40s...': %s", text, e.msg);
+    return rc == 0 && p->n == 1 ? 0 : -1;
+}
+
+/* bezier with 2(n+1) numbers, rbezier with n+1 (x y w): B(t) equals the Bernstein
+   sum to 1e-13, B' and B'' equal central differences, the line roots lie on the
+   line and are as many as the sign changes */
+static void any_degree(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 5);
+    int matched = 0, tried = 0;
+    for (int it = 0; it < 400 && !t_cur_failed; it++) {
+        int n = 1 + it % 9, rat = it % 2;
+        if (it % 40 == 39) n = 20;
+        double P[32][2], W[32];
+        char text[4096];
+        size_t off = (size_t)snprintf(text, sizeof text, rat ? "rbezier" : "bezier");
+        for (int i = 0; i <= n; i++) {
+            P[i][0] = gsl_rng_uniform(r);
+            P[i][1] = gsl_rng_uniform(r);
+            W[i] = rat ? 0.2 + 2 * gsl_rng_uniform(r) : 1;
+            off += (size_t)snprintf(text + off, sizeof text - off, rat ? " %.17g %.17g %.17g" : " %.17g %.17g",
+                                    P[i][0], P[i][1], W[i]);
+        }
+        snprintf(text + off, sizeof text - off, "\n");
+        aug_path p;
+        if (parse_one(text, &p)) break;
+        const aug_curve *c = &p.c[0];
+        T_CHECK((n == 3 && !rat) ? c->kind == AUG_CURVE_CUBIC : (c->kind == AUG_CURVE_BEZIER && c->deg == n),
+                "degree %d: kind %d deg %d", n, c->kind, c->deg);
+        for (int k = 0; k <= 20; k++) {
+            double t = k / 20.0, a[2], b[2], d1[2], d2[2];
+            bernstein((const double(*)[2])P, W, n, t, a);
+            aug_curve_jet(c, t, b, d1, d2, NULL);
+            T_CHECK(hypot(a[0] - b[0], a[1] - b[1]) < 1e-13, "degree %d rat %d: B(%g) off by %g", n, rat, t,
+                    hypot(a[0] - b[0], a[1] - b[1]));
+            double h = 1e-4, p1[2], m1[2], p0[2];
+            if (t < h || t > 1 - h) continue;
+            bernstein((const double(*)[2])P, W, n, t + h, p1);
+            bernstein((const double(*)[2])P, W, n, t - h, m1);
+            bernstein((const double(*)[2])P, W, n, t, p0);
+            for (int j = 0; j < 2; j++) {
+                double fd1 = (p1[j] - m1[j]) / (2 * h), fd2 = (p1[j] - 2 * p0[j] + m1[j]) / (h * h);
+                double sc = 1 + fabs(d1[j]) + fabs(d2[j]);
+                T_CHECK(fabs(fd1 - d1[j]) < 1e-5 * sc * n * n, "degree %d: B' %g vs %g", n, d1[j], fd1);
+                T_CHECK(fabs(fd2 - d2[j]) < 1e-3 * sc * n * n, "degree %d: B'' %g vs %g", n, d2[j], fd2);
+            }
+        }
+        double a[2] = {gsl_rng_uniform(r), gsl_rng_uniform(r)}, b[2] = {gsl_rng_uniform(r), gsl_rng_uniform(r)};
+        double t[AUG_CURVE_MAXDEG];
+        int nr = aug_curve_line_roots(c, a, b, 0, 1, t);
+        double nx = -(b[1] - a[1]), ny = b[0] - a[0], prev = 0;
+        for (int i = 0; i < nr; i++) {
+            double q[2];
+            bernstein((const double(*)[2])P, W, n, t[i], q);
+            T_CHECK(fabs(nx * (q[0] - a[0]) + ny * (q[1] - a[1])) < 1e-10, "degree %d: root %g off the line", n, t[i]);
+            T_CHECK(i == 0 || t[i] > t[i - 1], "degree %d: roots not increasing", n);
+        }
+        int changes = 0;
+        for (int k = 0; k <= 4000; k++) {
+            double q[2];
+            bernstein((const double(*)[2])P, W, n, k / 4000.0, q);
+            double g = nx * (q[0] - a[0]) + ny * (q[1] - a[1]);
+            if (k > 0 && (g > 0) != (prev > 0)) changes++;
+            prev = g;
+        }
+        tried++;
+        if (nr == changes) matched++;
+        else T_CHECK(nr >= changes, "degree %d: %d roots, %d sign changes", n, nr, changes);
+        /* roots of a part [t0, t1] are those of [0, 1] inside it */
+        double u[AUG_CURVE_MAXDEG];
+        int nu = aug_curve_line_roots(c, a, b, 0.3, 0.7, u), want = 0;
+        for (int i = 0; i < nr; i++) want += t[i] >= 0.3 && t[i] <= 0.7;
+        T_CHECK(nu == want || nr != changes, "degree %d: %d roots in [0.3, 0.7], want %d", n, nu, want);
+        aug_path_free(&p);
+    }
+    T_CHECK(matched >= tried - 4, "only %d of %d root counts matched", matched, tried);
+    gsl_rng_free(r);
+}
+
+/* the final mesh of a one-step split cut */
+static int cut_mesh(const char *text, aug_mesh *m)
+{
+    cc_square(m, 8, 8, 1, 1, NULL, 0);
+    res2 res;
+    return run_path(m, text, AUG_PATH_SPLIT, 3, AUG_DETACH_PIN, 0.0, &res);
+}
+
+static void same_mesh(const char *a, const char *b)
+{
+    aug_mesh ma, mb;
+    cut_mesh(a, &ma);
+    cut_mesh(b, &mb);
+    T_CHECK(ma.nn == mb.nn && ma.ne == mb.ne, "'%s' vs '%s': %lld/%lld nodes, %lld/%lld elements", a, b,
+            (long long)ma.nn, (long long)mb.nn, (long long)ma.ne, (long long)mb.ne);
+    double d = 0;
+    for (int64_t i = 0; i < ma.nn * 2 && ma.nn == mb.nn; i++) d = fmax(d, fabs(ma.x[i] - mb.x[i]));
+    T_CHECK(d < 1e-12, "'%s' vs '%s': nodes differ by %g", a, b, d);
+    T_CHECK(ma.ne != mb.ne || !memcmp(ma.conn, mb.conn, (size_t)ma.ne * 3 * sizeof *ma.conn),
+            "'%s' vs '%s': connectivity differs", a, b);
+    aug_mesh_free(&ma);
+    aug_mesh_free(&mb);
+}
+
+/* degree 1 is the line, degree 2 the arc with w = 1, rbezier with equal weights
+   the bezier, rbezier 1 w 1 the arc; a degree-5 curve (crossing itself) cuts
+   with every step's invariants (run_path) in both modes */
+static void low_degree(void)
+{
+    same_mesh("bezier 0.05 0.13 0.93 0.71\n", "line 0.05 0.13 0.93 0.71\n");
+    same_mesh("bezier 0.1 0.2 0.5 1.1 0.9 0.3\n", "arc 0.1 0.2 0.5 1.1 0.9 0.3 1\n");
+    same_mesh("rbezier 0.1 0.2 1 0.5 1.1 0.6 0.9 0.3 1\n", "arc 0.1 0.2 0.5 1.1 0.9 0.3 0.6\n");
+    same_mesh("rbezier 0.1 0.2 2 0.4 0.9 2 0.6 -0.1 2 0.9 0.6 2\n", "bezier 0.1 0.2 0.4 0.9 0.6 -0.1 0.9 0.6\n");
+    for (int mode = 0; mode < 2 && !t_cur_failed; mode++)
+        for (int steps = 1; steps <= 7 && !t_cur_failed; steps += 3) {
+            aug_mesh m;
+            cc_square(&m, 8, 8, 1, 1, NULL, 0);
+            res2 res;
+            run_path(&m, "bezier 0.05 0.1 0.9 0.2 0.1 1.3 0.4 -0.5 1.1 0.8 0.95 0.9\n", mode, steps,
+                     AUG_DETACH_PIN, 0.0, &res);
+            T_CHECK(res.steps == steps && res.nseg > 10, "degree 5, mode %d: %d steps, %lld segments", mode,
+                    res.steps, (long long)res.nseg);
+            run_path(&m, "rbezier 0.9 0.05 1 0.1 0.3 3 0.9 0.6 0.5 0.2 0.95 2 0.6 0.5 1\n", mode, steps,
+                     AUG_DETACH_PIN, 0.0, &res);
+            T_CHECK(res.steps == steps, "rational degree 4 after degree 5, mode %d: %d steps", mode, res.steps);
+            aug_mesh_free(&m);
+        }
+}
+
+/* kappa of the cubic with control points P (thesis eq. 3.8 with the cube),
+   from the power-basis derivatives, independently of the library */
+static double cubic_kappa(const double (*P)[2], double t)
+{
+    double d1[2], d2[2];
+    for (int k = 0; k < 2; k++) {
+        double a1 = 3 * (P[1][k] - P[0][k]), a2 = 3 * (P[0][k] - 2 * P[1][k] + P[2][k]);
+        double a3 = -P[0][k] + 3 * P[1][k] - 3 * P[2][k] + P[3][k];
+        d1[k] = a1 + 2 * a2 * t + 3 * a3 * t * t;
+        d2[k] = 2 * a2 + 6 * a3 * t;
+    }
+    return fabs(d1[0] * d2[1] - d1[1] * d2[0]) / pow(hypot(d1[0], d1[1]), 3);
+}
+
+/* the argmax of cubic_kappa on [t0, t1]: 100000 samples, then ternary search
+   around the best to 1e-13 (the test's own search) */
+static double dense_argmax(const double (*P)[2], double t0, double t1)
+{
+    int N = 100000, ib = 0;
+    double kb = -1;
+    for (int i = 0; i <= N; i++) {
+        double k = cubic_kappa(P, t0 + (t1 - t0) * i / N);
+        if (k > kb) {
+            kb = k;
+            ib = i;
+        }
+    }
+    double a = t0 + (t1 - t0) * (ib > 0 ? ib - 1 : 0) / N, b = t0 + (t1 - t0) * (ib < N ? ib + 1 : N) / N;
+    for (int it = 0; it < 200 && b - a > 1e-13; it++) {
+        double m1 = a + (b - a) / 3, m2 = b - (b - a) / 3;
+        if (cubic_kappa(P, m1) < cubic_kappa(P, m2)) a = m1;
+        else b = m2;
+    }
+    return 0.5 * (a + b);
+}
+
+/* the maximum curvature point (thesis eq. 3.8): the symmetric arch has it at
+   t = 1/2 with kappa = 6h / (1.5 (1 + a))^2 (closed form); random cubics
+   agree with the dense search to 1e-10 in kappa (relative) and 1e-7 in t;
+   kappa' = 0 there (central difference of cubic_kappa); circles and lines
+   have none; the max at an end of [t0, t1] is not interior */
+static void kappa_max(void)
+{
+    double a = 0.3, h = 0.6;
+    aug_curve c = {AUG_CURVE_CUBIC, {{-1, 0}, {-a, h}, {a, h}, {1, 0}}, 0, 1, 0, 0, NULL};
+    double tk, ex = 6 * h / pow(1.5 * (1 + a), 2);
+    T_CHECK(aug_curve_kappa_max(&c, 0, 1, &tk) && fabs(tk - 0.5) < 1e-10, "arch: t %.17g", tk);
+    T_CHECK(fabs(aug_curve_kappa(&c, tk) - ex) < 1e-12 * ex, "arch: kappa %.17g, closed form %.17g",
+            aug_curve_kappa(&c, tk), ex);
+    T_CHECK(fabs(dense_argmax((const double(*)[2])c.p, 0, 1) - 0.5) < 1e-7, "arch: the dense search disagrees");
+    T_CHECK(aug_curve_kappa_max(&c, 0, 0.4, &tk) == 0, "arch: the max of [0, 0.4] is at its end");
+    T_CHECK(aug_curve_kappa_max(&c, 0.3, 0.8, &tk) && fabs(tk - 0.5) < 1e-10, "arch on [0.3, 0.8]: %g", tk);
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 9);
+    int interior = 0;
+    for (int it = 0; it < 60 && !t_cur_failed; it++) {
+        aug_curve q;
+        memset(&q, 0, sizeof q);
+        q.kind = AUG_CURVE_CUBIC;
+        for (int i = 0; i < 4; i++)
+            for (int k = 0; k < 2; k++) q.p[i][k] = gsl_rng_uniform(r);
+        double t0 = 0.5 * gsl_rng_uniform(r), t1 = t0 + 0.1 + 0.4 * gsl_rng_uniform(r);
+        double td = dense_argmax((const double(*)[2])q.p, t0, t1);
+        double kd = cubic_kappa((const double(*)[2])q.p, td);
+        int in = aug_curve_kappa_max(&q, t0, t1, &tk);
+        int din = td > t0 + 1e-6 && td < t1 - 1e-6;
+        if (!in) {
+            T_CHECK(!din || kd <= fmax(cubic_kappa((const double(*)[2])q.p, t0), cubic_kappa((const double(*)[2])q.p, t1)) * (1 + 1e-6),
+                    "cubic %d: interior max at %g missed", it, td);
+            continue;
+        }
+        interior++;
+        double kt = cubic_kappa((const double(*)[2])q.p, tk), e = 1e-6 * (t1 - t0);
+        T_CHECK(kt >= kd * (1 - 1e-10), "cubic %d: kappa %.17g at %g, dense %.17g at %g", it, kt, tk, kd, td);
+        T_CHECK(fabs(tk - td) < 1e-7, "cubic %d: t %.17g, dense %.17g", it, tk, td);
+        double dk = (cubic_kappa((const double(*)[2])q.p, tk + e) - cubic_kappa((const double(*)[2])q.p, tk - e)) / (2 * e);
+        T_CHECK(fabs(dk) < 1e-4 * kt / (t1 - t0), "cubic %d: kappa' = %g at the max", it, dk);
+    }
+    T_CHECK(interior >= 10, "only %d interior maxima", interior);
+    aug_curve arc = {AUG_CURVE_RQUAD, {{2, 1}, {2, 2}, {1, 2}}, sqrt(0.5), 1, 0, 0, NULL};
+    aug_curve line = {AUG_CURVE_LINE, {{0, 0}, {1, 2}}, 0, 1, 0, 0, NULL};
+    T_CHECK(!aug_curve_kappa_max(&arc, 0, 1, &tk) && !aug_curve_kappa_max(&line, 0, 1, &tk), "circle or line: a max");
+    gsl_rng_free(r);
+}
+
+/* the cut gets a node at the curve's curvature maximum (inside one element
+   piece, away from the edges), on the curve, and none under chords */
+static void kappa_cut(void)
+{
+    static const char *text = "bezier 0.16 0.32 0.76 0.92 0.36 0.92 0.96 0.37\n";
+    double P[4][2] = {{0.16, 0.32}, {0.76, 0.92}, {0.36, 0.92}, {0.96, 0.37}}, B[2];
+    double td = dense_argmax((const double(*)[2])P, 0, 1);
+    aug_curve c = {AUG_CURVE_CUBIC, {{0.16, 0.32}, {0.76, 0.92}, {0.36, 0.92}, {0.96, 0.37}}, 0, 1, 0, 0, NULL};
+    aug_curve_eval(&c, td, B);
+    for (int ch = 0; ch < 2 && !t_cur_failed; ch++) {
+        aug_mesh m;
+        cc_square(&m, 8, 8, 1, 1, NULL, 0);
+        res2 res;
+        chords = ch;
+        run_path(&m, text, AUG_PATH_SPLIT, 1, AUG_DETACH_PIN, 0.0, &res);
+        chords = 0;
+        int at = nodes_at(&m, B[0], B[1], 1e-9);
+        T_CHECK(ch ? at == 0 : at == 2, "chords %d: %d nodes at the curvature maximum (%.6f, %.6f), t %.6f", ch, at,
+                B[0], B[1], td);
+        aug_mesh_free(&m);
+    }
 }
 
 static void random_text(gsl_rng *r, char *buf, size_t n)
@@ -420,6 +685,10 @@ int main(void)
     aug_cholmod_start(&cm);
     T_RUN(parse_errors);
     T_RUN(curve_roots);
+    T_RUN(any_degree);
+    T_RUN(low_degree);
+    T_RUN(kappa_max);
+    T_RUN(kappa_cut);
     T_RUN(degenerate);
     T_RUN(split_random);
     T_RUN(snap_random);
