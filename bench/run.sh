@@ -12,4 +12,6 @@ run solve_figs.sh
 run refine.sh
 run memory.sh
 run deform.sh
+run dynamics.sh
+run modal.sh
 exit $status

@@ -17,7 +17,7 @@ static const char *synopsis =
     "      [--probes K] [--gate exact|estimate] [--coupling direct|schur|ppcg] [--tol T]\n"
     "      [--maxit N] [--basis svd|identity] [--lead N] [--frames N] [--settle N] [--check]\n"
     "      [--ordering auto|amd|metis] [--after-cut all|neighbours|touched] [--warp] [--lma K]\n"
-    "      [--fe-solver amps|cholmod]"
+    "      [--fe-solver amps|cholmod] [--monitor]"
     "      [--output all|surface|SET] [--seed S] [--threads N] [-h]";
 
 static const char *help =
@@ -51,6 +51,8 @@ static const char *help =
     "  --after-cut W        which reduced domains a cut step returns to FE: all (default),\n"
     "                       neighbours (those sharing an interface with a domain it\n"
     "                       touches) or touched (only those it re-wires: paper 004)\n"
+    "  --monitor            the full-order residual of every reduced frame, accumulated per\n"
+    "                       domain over the run, also ends reduced stretches (--acc-tol)\n"
     "  --fe-solver S        every domain FE: amps (default: the stream's factor and its cut\n"
     "                       updates, as solve-aug) or cholmod (the shared-node system factored)\n"
     "  --ordering auto|amd|metis  fill-reducing ordering of the FE factors (default metis)\n"
@@ -127,6 +129,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--check", &o->check)},
         {AUG_OPT_CHOICE("--after-cut", &m->after_cut, aftercut, "all, neighbours or touched")},
         {AUG_OPT_FLAG("--warp", &m->warp)},
+        {AUG_OPT_FLAG("--monitor", &m->monitor)},
         {AUG_OPT_INT("--lma", &o->lma, 1, AUG_MODES_MAX, "a count from 1 to 24")},
         {AUG_OPT_STRING("--output", &o->output, "all, surface or a set name"), .flags = AUG_OPT_NONEMPTY},
         {AUG_OPT_INT("--seed", &o->seed, 1, 2000000000, "a positive integer")},

@@ -58,6 +58,7 @@ typedef struct aug_mdomain {
     double *MW, *KW, *flift, *dinv; /* M W, K W, f - K[F,C] u_C, 1 / diag(A) (the residual monitor) */
     unsigned char *iface;       /* nf: free DOF on an interface row */
     double acc, last_res;       /* accumulated error estimate while reduced, its last increment */
+    int monitor;                /* --monitor: the residual monitor runs */
     double *Kr, *Mr, *Ar, *fr, *q, *qd, *br, *dq;
     long budget;                /* reduced frames left (eq. 13's accumulation rule) */
     double err_switch;          /* projection error at the switch */
@@ -96,6 +97,7 @@ typedef struct aug_msim_opts {
     int basis;                  /* AUG_BASIS_* (identity: a check of the machinery) */
     int warp;                   /* write warped fields (eqs. 16-17) */
     int after_cut;              /* AUG_AFTER_CUT_*: reduced domains a cut returns to FE */
+    int monitor;                /* the residual monitor of reduced frames ends stretches */
     uint64_t seed;
 } aug_msim_opts;
 void aug_msim_opts_default(aug_msim_opts *o);

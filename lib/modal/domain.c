@@ -274,7 +274,7 @@ void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p, const aug_mesh *m)
     (void)m;
     if (d->mode == AUG_MD_RED) {
         int r = d->r;
-        monitor(d, p);
+        if (d->monitor) monitor(d, p);
         for (int i = 0; i < r; i++) d->q[i] += d->dq[i];
         double *qd1 = d->tmp;
         aug_dynp_velocity(p, d->dq, d->qd, qd1, r);

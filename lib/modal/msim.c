@@ -239,6 +239,7 @@ int aug_msim_init(aug_msim *s, const aug_msim_opts *o, const aug_dynp *p, const 
     for (int di = 0; di < s->nd; di++) {
         aug_mdomain *d = &s->d[di];
         if (aug_mdomain_build(d, di, m, s->edom, s->owner, p, cm, e)) return e->code;
+        d->monitor = o->monitor;
         for (int64_t l = 0; l < d->nn; l++)
             for (int c = 0; c < m->dim; c++) {
                 d->u[l * m->dim + c] = s->u[(int64_t)d->nodes[l] * m->dim + c];
@@ -555,6 +556,7 @@ static int rewire(aug_msim *s, int di, const aug_mesh *m, int64_t nn_old, const 
     }
     d->version = old.version + 1;
     d->acc = old.acc;
+    d->monitor = old.monitor;
     d->switched = old.mode == AUG_MD_RED ? -1 : 0;
     d->rebuilt = 1;
     free(src);
