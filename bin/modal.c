@@ -14,10 +14,10 @@
 static const char *synopsis =
     "modal [FILE] [--domains material|one|GROUPS] [--split K] [--reduce all|none|LIST]\n"
     "      [--rank R] [--svd-tol T] [--tau-svd T] [--err-tol E] [--acc-tol A] [--min-snap N]\n"
-    "      [--probes K] [--gate exact|estimate] [--coupling direct|schur|ppcg] [--tol T]\n"
+    "      [--sync N] [--probes K] [--gate exact|estimate] [--coupling direct|schur|ppcg] [--tol T]\n"
     "      [--maxit N] [--basis svd|identity] [--lead N] [--frames N] [--settle N] [--check]\n"
     "      [--ordering auto|amd|metis] [--after-cut all|neighbours|touched] [--warp] [--lma K]\n"
-    "      [--fe-solver amps|cholmod] [--monitor]"
+    "      [--fe-solver amps|cholmod] [--monitor]\n"
     "      [--output all|surface|SET] [--seed S] [--threads N] [-h]";
 
 static const char *help =
@@ -34,6 +34,8 @@ static const char *help =
     "  --acc-tol A          accumulated-error budget: a domain reduced at error err stays\n"
     "                       about (A - err) / drift frames (default 0.01)\n"
     "  --min-snap N         snapshots a domain takes before it may switch (default 4)\n"
+    "  --sync N             a domain ready to switch waits up to N frames for the other FE\n"
+    "                       domains to be ready too (default 10; 0: at once)\n"
     "  --probes K           random probes of the eq. 14 estimate (default 4; 0: none)\n"
     "  --gate exact|estimate  the error the switch tests (default exact)\n"
     "  --coupling C         direct (slave elimination, default), schur (dual Schur\n"
@@ -115,6 +117,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
          .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
         {AUG_OPT_REAL("--acc-tol", &m->acc_tol, 0, 1e6, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
         {AUG_OPT_INT("--min-snap", &m->min_snap, 1, 100000000, "a count >= 1")},
+        {AUG_OPT_INT("--sync", &m->sync, 0, 100000000, "a count >= 0")},
         {AUG_OPT_INT("--probes", &m->probes, 0, 64, "0 to 64")},
         {AUG_OPT_CHOICE("--gate", &m->gate_estimate, gates, "exact or estimate")},
         {AUG_OPT_CHOICE("--coupling", &m->coupling, couplings, "direct, schur or ppcg")},

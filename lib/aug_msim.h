@@ -66,6 +66,8 @@ typedef struct aug_mdomain {
     int moved;                  /* constrained DOFs moved this frame */
     uint64_t version;           /* bumped when A (or the basis) changes */
     int since;                  /* snapshots since the last re-wiring or return to FE */
+    int ready, wait;            /* passed the switch tests this frame; frames waited for the others */
+    long ready_budget;
     int switched;               /* this frame: +1 to reduced, -1 to FE, 0 */
     int rebuilt;                /* re-wired this step */
     int hold;                   /* returned to FE by this step (a neighbour re-wired) */
@@ -89,6 +91,7 @@ typedef struct aug_msim_opts {
     double tau_svd;             /* eq. 12's singular-value sum ratio threshold (0.9, 1) */
     double err_tol, acc_tol;    /* eq. 13 threshold, accumulation budget (relative) */
     int min_snap;               /* snapshots before a domain may switch */
+    int sync;                   /* frames a ready domain waits for the other FE domains */
     int probes;                 /* random probes of eq. 14's estimate */
     int gate_estimate;          /* switch on the estimate instead of the exact error */
     int coupling;               /* AUG_COUPLE_* */
@@ -147,6 +150,7 @@ typedef struct aug_msim {
     aug_direct *dir;
     const aug_mext *ext;        /* NULL: the FE union is always factored */
     int dirty;                  /* coupled system to rebuild */
+    int returned;               /* a reduced domain returned to FE this frame */
     uint64_t rng;
     double *pwork;              /* projection work (n + 2 qcap + rank cap) */
     int64_t pwcap;
