@@ -118,6 +118,21 @@ def mesh(recs):
     return m
 
 
+def frame(p):
+    """fRAM (7.9): (frame, time, dim, nodes or None, u, v); StreamError when
+    the payload size disagrees with its header"""
+    fr, dim, count, time, indexed = struct.unpack_from("<iiqdi", p, 0)
+    pos = 32
+    nodes = None
+    if indexed:
+        nodes, pos = arr("i", p, pos, count)
+    u, pos = arr("d", p, pos, count * dim)
+    v, pos = arr("d", p, pos, count * dim)
+    if pos != len(p):
+        raise StreamError("fRAM payload size")
+    return fr, time, dim, nodes, u, v
+
+
 def kv(p):
     """a named-value record (sTAt, tIMe, qUAl, cOND): (tag, {key: value})"""
     tag = name(p[:16])

@@ -85,17 +85,11 @@ def mult(A, x, i):
 
 
 def frame(p):
-    """fRAM (7.9): frame, time, dim, nodes or None, u, v"""
-    fr, dim, count, time, indexed = struct.unpack_from("<iiqdi", p, 0)
-    pos = 32
-    nodes = None
-    if indexed:
-        nodes, pos = cutsys.arr("i", p, pos, count)
-    u, pos = cutsys.arr("d", p, pos, count * dim)
-    v, pos = cutsys.arr("d", p, pos, count * dim)
-    if pos != len(p):
-        raise cutsys.Bad("fRAM payload size")
-    return fr, time, dim, nodes, list(u), list(v)
+    """fRAM (7.9): frame, time, dim, nodes or None, u, v (augstream.frame)"""
+    try:
+        return augstream.frame(p)
+    except augstream.StreamError as x:
+        raise cutsys.Bad(str(x))
 
 
 def main():

@@ -8,7 +8,6 @@ usage: frames_diff.py [--tol T] [--min N] [--v] A B
 Prints 'ok frames=N max_rel=...' (exit 0) or the first frame over T (exit 1)."""
 import math
 import os
-import struct
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -19,19 +18,12 @@ def frames(path):
     """{frame: (nodes or None, u, v)}; a later record of the same frame wins"""
     out = {}
     for t, fl, s, p in augstream.records(open(path, "rb").read()):
-        if t != "fRAM":
-            continue
-        fr, dim, cnt = struct.unpack_from("<iiq", p, 0)
-        indexed, = struct.unpack_from("<i", p, 24)
-        pos = 32
-        nodes = None
-        if indexed:
-            nodes, pos = augstream.arr("i", p, pos, cnt)
-        u, pos = augstream.arr("d", p, pos, cnt * dim)
-        v, pos = augstream.arr("d", p, pos, cnt * dim)
-        if pos != len(p):
-            sys.exit("%s: fRAM frame %d: payload size" % (path, fr))
-        out[fr] = (nodes, u, v)
+        if t == "fRAM":
+            try:
+                fr, time, dim, nodes, u, v = augstream.frame(p)
+            except augstream.StreamError as x:
+                sys.exit("%s: %s" % (path, x))
+            out[fr] = (nodes, u, v)
     return out
 
 
