@@ -169,11 +169,13 @@ void aug_msim_free(aug_msim *s);
    new nodes' parents parent[nn - nn_old] (a parent may be an earlier new
    node), chg[nchg] the elements the step re-wired or added. Every domain with
    a changed element, node, constraint or load is rebuilt from m and switched
-   to FE, its snapshots padded (new nodes take their parent's rows). */
+   to FE, its snapshots padded (new nodes take their parent's rows); the
+   other reduced domains return to FE as o.after_cut says. */
 int aug_msim_step(aug_msim *s, const aug_mesh *m, int64_t nn_old, const int32_t *parent,
                   const int32_t *chg, int64_t nchg, aug_err *e);
-/* One frame: right-hand sides, the coupled solve, the states advanced,
-   snapshots and switches. */
+/* One frame: right-hand sides, the coupled solve (rebuilt after a switch or
+   a step), the states advanced, snapshots and switches (ready domains
+   together, o.sync). */
 int aug_msim_frame(aug_msim *s, const aug_mesh *m, aug_err *e);
 /* The frame's figures as sTAt / tIMe (tag modal). */
 void aug_msim_stats(const aug_msim *s, aug_kv *st, aug_kv *tm);
@@ -208,8 +210,8 @@ void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p, const aug_mesh *m);
 int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, long budget, cholmod_common *cm,
                       aug_err *e);
 void aug_mdomain_unreduce(aug_mdomain *d);
-/* the value of free index i of domain d now (FE: u, reduced: W q) and of its
-   basis row (reduced) */
+/* the value of free index i of domain d now (FE: u; reduced: W q, kept
+   expanded in u after every frame) */
 double aug_mdomain_value(const aug_mdomain *d, int64_t i);
 
 /* The rows and columns of the upper-stored symmetric A kept by map (old
