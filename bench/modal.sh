@@ -7,7 +7,8 @@
 # error against FE (max, final), the interface gap, the system sizes (max / min
 # before the first cut and after it), the ranks and the switch events; AMPS
 # (solve-aug, FE with the principal-submatrix updates across the cuts) on the
-# same cut steps as a second FE baseline; and the three couplings (direct,
+# same cut steps as a second FE baseline; the hybrid with its FE parts
+# factored by CHOLMOD at every cut (--fe-solver cholmod) against AMPS; and the three couplings (direct,
 # dual Schur, projected PCG) timed on the same frames of one scene. Each scene
 # twice: the default tolerances (--err-tol, --acc-tol 0.01) and tight ones
 # with the residual monitor (0.002, --monitor; rows SCENE_tight): speed
@@ -30,7 +31,7 @@ if [ "${QUICK:-0}" = 1 ]; then SCENES=${SCENES:-"cube_n8 steak"}; STEPS=2; LEAD=
 SCENES=${SCENES:-"cube steak organ_brain organ_sphere3"}
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 CSV=$O/modal.csv
-echo "scene,elements,domains,nodes,frames,sys_max_before,sys_min_before,sys_max_after,sys_min_after,hybrid_ms_median,fe_ms_median,speedup_median,hybrid_ms_total,fe_ms_total,speedup_total,amps_frame_ms,l2_max,l2_final,gap_max,switches,ranks,paper_fps_ours,paper_fps_fem" > $CSV
+echo "scene,elements,domains,nodes,frames,sys_max_before,sys_min_before,sys_max_after,sys_min_after,hybrid_ms_median,fe_ms_median,speedup_median,hybrid_ms_total,fe_ms_total,speedup_total,amps_frame_ms,l2_max,l2_final,gap_max,switches,ranks,paper_fps_ours,paper_fps_fem,hybrid_ms_total_cholmod" > $CSV
 setup() { # scene -> "meshload args|h|cut args|paper fps ours|paper fps fem"
     case $1 in
         cube|cube_n*) [ -f $S/$1.msh ] || make -s $S/$1.msh > /dev/null 2>&1
@@ -65,13 +66,18 @@ for sc in $SCENES; do
     # shellcheck disable=SC2086
     $B/modal --lead $LEAD --frames $FRAMES --check $topt < $T/c.aug > $T/s.aug 2> $T/err.txt ||
         { echo "modal.sh: $sc: modal failed: $(tail -1 $T/err.txt)" >&2; continue; }
+    # the FE parts factored by CHOLMOD at every cut instead of AMPS (--fe-solver cholmod)
+    chol=""
+    [ $tol = default ] && $B/modal --lead $LEAD --frames $FRAMES --fe-solver cholmod < $T/c.aug > $T/ch.aug 2> $T/err.txt &&
+        chol=$(python3 bench/aug_kv.py --records $T/ch.aug | awk '$1 == "tIMe" && $3 == "modal" {
+            for (i = 4; i <= NF; i++) if ($i ~ /^time_ms=/) { split($i, a, "="); t += a[2] } } END { printf "%.1f", t }')
     [ $tol = default ] && { $B/solve-aug --method amps --frames $FRAMES --no-reactions < $T/c.aug > $T/a.aug 2> $T/err.txt ||
         echo "modal.sh: $sc: solve-aug failed: $(tail -1 $T/err.txt)" >&2; }
     ne=$($B/meshload $margs 2>/dev/null | $B/stats | awk '$1 == "elements" { print $2; exit }')
     python3 bench/aug_kv.py --records $T/s.aug > $T/kv.txt
     python3 bench/aug_kv.py --records $T/a.aug > $T/akv.txt 2>/dev/null
     suf=""; [ $tol = tight ] && suf="_tight"
-    python3 - $T/kv.txt $T/akv.txt $sc$suf "$ne" "$pf" "$pe" $CSV $O/modal_frames_$sc$suf.csv <<'PY'
+    python3 - $T/kv.txt $T/akv.txt $sc$suf "$ne" "$pf" "$pe" $CSV $O/modal_frames_$sc$suf.csv "$chol" <<'PY'
 import statistics, sys
 kv = lambda l: dict((a.split("=")[0], float(a.split("=")[1])) for a in l[3:])
 st, tm = {}, {}
@@ -94,9 +100,9 @@ sw = sum(int(st[f]["events"]) for f in fr)
 ranks = "/".join("%d" % st[fr[-1]].get("d%d_rank" % d, -1) for d in range(nd))
 mx = lambda v: max(v) if v else float("nan")
 mn = lambda v: min(v) if v else float("nan")
-out.write("%s,%s,%d,%d,%d,%d,%d,%d,%d,%.3f,%.3f,%.2f,%.1f,%.1f,%.2f,%.3f,%.3g,%.3g,%.3g,%d,%s,%s,%s\n" % (
+out.write("%s,%s,%d,%d,%d,%d,%d,%d,%d,%.3f,%.3f,%.2f,%.1f,%.1f,%.2f,%.3f,%.3g,%.3g,%.3g,%d,%s,%s,%s,%s\n" % (
     sc, ne, nd, nn, len(fr), mx(before), mn(before), mx(after), mn(after), med(hy), med(fe), med(fe) / med(hy),
-    sum(hy), sum(fe), sum(fe) / sum(hy), med(amps), mx(l2), l2[-1], gap, sw, ranks, pf, pe))
+    sum(hy), sum(fe), sum(fe) / sum(hy), med(amps), mx(l2), l2[-1], gap, sw, ranks, pf, pe, sys.argv[9]))
 with open(fcsv, "w") as f:
     f.write("frame,step,time_ms,fe_ms,l2_err,gap,n_sys,reduced,events\n")
     for k in fr:
