@@ -304,12 +304,12 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, session *ss, l
 {
     aug_err e;
     for (long f = 0; f < n; f++) {
-        if (aug_msim_frame(&ss->sim, &rp->mesh, &e)) fail_at(t, &e, rec);
+        if (aug_msim_frame(&ss->sim, &e)) fail_at(t, &e, rec);
         aug_kv st, tm;
         aug_msim_stats(&ss->sim, &st, &tm);
         if (o->check) {
             double t0 = aug_now();
-            if (aug_msim_frame(&ss->ref, &rp->mesh, &e)) fail_at(t, &e, rec);
+            if (aug_msim_frame(&ss->ref, &e)) fail_at(t, &e, rec);
             aug_kv_set(&tm, "fe_ms", 1e3 * (aug_now() - t0));
             aug_kv_set(&st, "l2_err", l2_err(&ss->sim, &ss->ref));
         }

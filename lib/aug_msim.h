@@ -49,7 +49,6 @@ typedef struct aug_mdomain {
     double *u, *v;              /* local nodal state (nn*dim) */
     double *uf, *b, *du, *tmp, *tmp2; /* free-DOF work vectors */
     /* the subspace */
-    int rank_cap;
     aug_isvd svd;
     aug_galerkin gK, gM;
     int have_svd;
@@ -176,7 +175,10 @@ int aug_msim_step(aug_msim *s, const aug_mesh *m, int64_t nn_old, const int32_t 
 /* One frame: right-hand sides, the coupled solve (rebuilt after a switch or
    a step), the states advanced, snapshots and switches (ready domains
    together, o.sync). */
-int aug_msim_frame(aug_msim *s, const aug_mesh *m, aug_err *e);
+int aug_msim_frame(aug_msim *s, aug_err *e);
+/* Interface row k's gap: its master copy's value minus its slave copy's now
+   (the g of C du = g that makes the copies agree after the frame). */
+double aug_msim_row_gap(const aug_msim *s, int64_t k);
 /* The frame's figures as sTAt / tIMe (tag modal). */
 void aug_msim_stats(const aug_msim *s, aug_kv *st, aug_kv *tm);
 
@@ -201,11 +203,10 @@ int aug_mdomain_build(aug_mdomain *d, int id, const aug_mesh *m, const int32_t *
 void aug_mdomain_free(aug_mdomain *d, cholmod_common *cm);
 /* the right-hand side of the integrator (aug_dyn.h) over the free DOFs (FE)
    or the basis (reduced): b = h M v0 + gamma h^2 (f - K u0), the prescribed
-   motion of constrained DOFs (target values of m) lifted */
-int aug_mdomain_rhs(aug_mdomain *d, const aug_dynp *p, const aug_mesh *m, cholmod_common *cm,
-                    aug_err *e);
+   motion of constrained DOFs (the targets of its sub-mesh) lifted */
+int aug_mdomain_rhs(aug_mdomain *d, const aug_dynp *p, cholmod_common *cm, aug_err *e);
 /* the state advanced by the solution (du over the free DOFs, or dq) */
-void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p, const aug_mesh *m);
+void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p);
 /* FE -> reduced on the current basis (state projected), reduced -> FE */
 int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, long budget, cholmod_common *cm,
                       aug_err *e);

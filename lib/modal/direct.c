@@ -67,12 +67,6 @@ int64_t aug_direct_size(const aug_direct *dr)
 
 #define NOMEM(e) aug_err_set((e), AUG_ENOMEM, -1, "MODE", "out of memory")
 
-/* the value of row k's master / slave copy now */
-static double copy_value(const aug_msim *s, int dom, int32_t i)
-{
-    return aug_mdomain_value(&s->d[dom], i);
-}
-
 /* union numbering: kept DOFs (FE, not slaved to a reduced master) first,
    then the slaves; gl[global DOF] -> union index */
 static int number(aug_direct *dr, aug_msim *s, int32_t *gl, aug_err *e)
@@ -273,12 +267,10 @@ static int schur(aug_direct *dr, aug_msim *s, aug_err *e)
    unknown from now on) */
 static void sync_copies(aug_msim *s)
 {
-    int dim = s->dim;
     for (int64_t k = 0; k < s->m; k++) {
         aug_mdomain *a = &s->d[s->ca[k]], *b = &s->d[s->cb[k]];
         if (a->mode != AUG_MD_FE || b->mode != AUG_MD_FE) continue;
         int32_t la = a->free_dof[s->cia[k]], lb = b->free_dof[s->cib[k]];
-        (void)dim;
         a->u[la] = b->u[lb], a->v[la] = b->v[lb];
     }
 }
@@ -381,7 +373,7 @@ int aug_direct_solve(aug_direct *dr, aug_msim *s, aug_err *e)
     memset(dr->gG, 0, (size_t)nU * sizeof *dr->gG);
     for (int64_t q = 0; q < nG; q++) {
         int32_t r = dr->gsrc[q];
-        dr->gG[nI + q] = copy_value(s, s->cb[r], s->cib[r]) - copy_value(s, s->ca[r], s->cia[r]);
+        dr->gG[nI + q] = aug_msim_row_gap(s, r);
     }
     if (nG > 0) {
         if (aug_sym_mult(dr->AU, dr->gG, dr->t, cm)) return NOMEM(e);
@@ -398,7 +390,7 @@ int aug_direct_solve(aug_direct *dr, aug_msim *s, aug_err *e)
         if (nI > 0) cblas_dgemv(CblasColMajor, CblasTrans, (int)nI, R, -1.0, dr->P, (int)nU, dr->y, 1, 1.0, dr->z, 1);
         for (int64_t q = 0; q < dr->mrr; q++) {
             int32_t r = dr->rr[q];
-            dr->grr[q] = copy_value(s, s->cb[r], s->cib[r]) - copy_value(s, s->ca[r], s->cia[r]);
+            dr->grr[q] = aug_msim_row_gap(s, r);
         }
         if (k > 0) {
             cblas_dgemv(CblasColMajor, CblasTrans, (int)dr->mrr, k, 1.0, dr->Ug, (int)dr->mrr, dr->grr, 1, 0.0, dr->z + R, 1);

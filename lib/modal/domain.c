@@ -180,10 +180,8 @@ double aug_mdomain_value(const aug_mdomain *d, int64_t i)
     return d->u[d->free_dof[i]];
 }
 
-int aug_mdomain_rhs(aug_mdomain *d, const aug_dynp *p, const aug_mesh *m, cholmod_common *cm,
-                    aug_err *e)
+int aug_mdomain_rhs(aug_mdomain *d, const aug_dynp *p, cholmod_common *cm, aug_err *e)
 {
-    (void)m;
     aug_err_clear(e);
     double h = p->h, gh2 = aug_dynp_gamma(p) * h * h;
     d->moved = 0;
@@ -269,9 +267,8 @@ static void monitor(aug_mdomain *d, const aug_dynp *p)
     d->acc += d->last_res;
 }
 
-void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p, const aug_mesh *m)
+void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p)
 {
-    (void)m;
     if (d->mode == AUG_MD_RED) {
         int r = d->r;
         if (d->monitor) monitor(d, p);

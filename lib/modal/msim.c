@@ -350,7 +350,7 @@ static int saddle_solve(aug_msim *s, aug_err *e)
         memcpy(s->rhs + s->off[di], d->mode == AUG_MD_FE ? d->b : d->br, (size_t)s->blk[di].n * sizeof *s->rhs);
     }
     for (int64_t k = 0; k < s->m; k++)
-        s->g[k] = aug_mdomain_value(&s->d[s->cb[k]], s->cib[k]) - aug_mdomain_value(&s->d[s->ca[k]], s->cia[k]);
+        s->g[k] = aug_msim_row_gap(s, k);
     aug_saddle_stats st;
     memset(&st, 0, sizeof st);
     int rc = s->o.coupling == AUG_COUPLE_SCHUR
@@ -367,11 +367,16 @@ static int saddle_solve(aug_msim *s, aug_err *e)
 
 /* ---- the frame ---- */
 
+double aug_msim_row_gap(const aug_msim *s, int64_t k)
+{
+    return aug_mdomain_value(&s->d[s->cb[k]], s->cib[k]) - aug_mdomain_value(&s->d[s->ca[k]], s->cia[k]);
+}
+
 static double frame_gap(const aug_msim *s)
 {
     double g2 = 0;
     for (int64_t k = 0; k < s->m; k++) {
-        double g = aug_mdomain_value(&s->d[s->cb[k]], s->cib[k]) - aug_mdomain_value(&s->d[s->ca[k]], s->cia[k]);
+        double g = aug_msim_row_gap(s, k);
         g2 += g * g;
     }
     return sqrt(g2);
@@ -480,7 +485,7 @@ static int switch_ready(aug_msim *s, aug_err *e)
     return 0;
 }
 
-int aug_msim_frame(aug_msim *s, const aug_mesh *m, aug_err *e)
+int aug_msim_frame(aug_msim *s, aug_err *e)
 {
     aug_err_clear(e);
     s->events = s->step_events;
@@ -491,7 +496,7 @@ int aug_msim_frame(aug_msim *s, const aug_mesh *m, aug_err *e)
     }
     double t0 = aug_now();
     for (int di = 0; di < s->nd; di++)
-        if (aug_mdomain_rhs(&s->d[di], &s->p, m, s->cm, e)) return e->code;
+        if (aug_mdomain_rhs(&s->d[di], &s->p, s->cm, e)) return e->code;
     double t1 = aug_now();
     s->t_build = 0;
     if (s->dirty) {
@@ -511,7 +516,7 @@ int aug_msim_frame(aug_msim *s, const aug_mesh *m, aug_err *e)
         s->nsys = s->N;
     }
     double t3 = aug_now();
-    for (int di = 0; di < s->nd; di++) aug_mdomain_advance(&s->d[di], &s->p, m);
+    for (int di = 0; di < s->nd; di++) aug_mdomain_advance(&s->d[di], &s->p);
     gather(s);
     s->gap = frame_gap(s);
     double t4 = aug_now();
