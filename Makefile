@@ -73,6 +73,9 @@ $(B)/libaugcli.a: $(CLI_OBJ)
 
 bin/meshload: bin/meshload.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS)
 	$(CC) $(CFLAGS) -o $@ $< $(B)/libaugcli.a lib/libaugcut.a $(LDLIBS_GMSH) $(LDLIBS_NUM)
+# cut --surface reads gmsh surface meshes
+bin/cut: bin/cut.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS)
+	$(CC) $(CFLAGS) -o $@ $< $(B)/libaugcli.a lib/libaugcut.a $(LDLIBS_GMSH) $(LDLIBS_NUM)
 
 bin/%: bin/%.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS)
 	$(CC) $(CFLAGS) -o $@ $< $(B)/libaugcli.a lib/libaugcut.a $(LDLIBS_NUM)
@@ -96,6 +99,9 @@ $(B)/asan/tests/%: tests/unit/%.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(
 ASAN_UNIT := $(UNIT_SRC:tests/unit/%.c=$(B)/asan/tests/%)
 # ... and of the tools, for the shell tests' second pass (tests/run.sh)
 $(B)/asan/bin/meshload: bin/meshload.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(ASAN_FLAGS) -o $@ $< $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(LDLIBS_GMSH) $(LDLIBS_NUM)
+$(B)/asan/bin/cut: bin/cut.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) $(ASAN_FLAGS) -o $@ $< $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(LDLIBS_GMSH) $(LDLIBS_NUM)
 $(B)/asan/bin/%: bin/%.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(HDRS)

@@ -1,6 +1,7 @@
 /* cut: a stream (mesh, possibly factor and earlier steps) -> + per cut step
-   MDLT, BDLT, UPDT, pATH (planar cut by node duplication, a 2-D path, or no
-   cut: deformation-only steps of --constrain and --drag). */
+   MDLT, BDLT, UPDT, pATH (planar cut by node duplication, a 2-D path, a 3-D
+   blade sweep or surface, or no cut: deformation-only steps of --constrain
+   and --drag). */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -8,10 +9,12 @@
 #include <string.h>
 #include "augcut.h"
 #include "cli/aug_opt.h"
+#include "cli/aug_gmsh.h"
 
 static const char *synopsis =
     "cut [FILE] [--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--polygon PTS] [--per-step K] [--seed S]\n"
-    "           | --path PFILE [--mode split|snap] [--snap-tol T] [--chords]]\n"
+    "           | --path PFILE [--mode split|snap] [--snap-tol T] [--chords]\n"
+    "           | --blade BFILE | --surface SFILE [--advance dx,dy,dz] [--mode snap|split] [--snap-tol T]]\n"
     "           --steps N [--pull F] [--detached error|pin|drop|keep]\n"
     "           [--constrain SET|box:LO,HI[=u,v[,w]][@S]]... [--drag SET|box:LO,HI:dx,dy[,dz]]...\n"
     "           [--stats] [--deflate] [-h]";
@@ -27,6 +30,12 @@ static const char *help =
     "  --path PFILE         2-D cut path: line, polyline, bezier, arc, circle (see cut(1))\n"
     "  --mode split|snap    split: new nodes where the path crosses edges (default);\n"
     "                       snap: separate along the mesh edges nearest the path\n"
+    "  --blade BFILE        3-D: cut along the surface a moving blade segment sweeps: key\n"
+    "                       positions 'blade ax ay az bx by bz', Bezier controls 'curve ...'\n"
+    "                       between them (see cut(1)); step t of N cuts up to t/N of the motion\n"
+    "  --surface SFILE      3-D: cut along a triangle surface (STL, or a gmsh .msh surface\n"
+    "                       mesh), realised in the order of --advance (default: widest axis)\n"
+    "                       blade and surface: --mode snap (default) or split (tet4)\n"
     "  --snap-tol T         split mode: snap to a node within T of an edge (default 0.05)\n"
     "  --chords             split mode: no vertex at the curvature maximum inside an\n"
     "                       element, chords between the crossings only (thesis fig. 3.5)\n"
@@ -46,8 +55,9 @@ static const char *help =
     "  -h                   this help; see cut(1)\n";
 
 typedef struct options {
-    const char *file, *pathfile;
-    int plane, random_plane, have_adv, mode, policy, stats, deflate, chords;
+    const char *file, *pathfile, *bladefile, *surffile;
+    int plane, random_plane, have_adv, mode, mode_given, policy, stats, deflate, chords;
+    aug_cutsurf surf;          /* --blade or --surface */
     int npoly;                 /* --polygon vertices (3-D points) */
     double poly[3 * 64];
     double n[4], adv[3], pull, snap_tol;
@@ -100,6 +110,29 @@ static const aug_word policies[] = {{"error", AUG_DETACH_ERROR}, {"pin", AUG_DET
                                     {"drop", AUG_DETACH_DROP},   {"keep", AUG_DETACH_KEEP},
                                     {NULL, 0}};
 
+/* --blade BFILE or --surface SFILE (.msh: gmsh's API, else STL) into o->surf */
+static void parse_surface(aug_tool *t, options *o)
+{
+    aug_err e;
+    memset(&o->surf, 0, sizeof o->surf);
+    if (!o->mode_given) o->mode = AUG_PATH_SNAP;
+    if (o->bladefile) {
+        FILE *f = fopen(o->bladefile, "r");
+        if (!f) aug_tool_usage(t, "--blade %s: cannot open it", o->bladefile);
+        else {
+            if (aug_blade_parse(f, o->bladefile, &o->surf.b, &e)) aug_tool_usage(t, "%s", e.msg);
+            else o->surf.blade = 1;
+            fclose(f);
+        }
+        return;
+    }
+    size_t l = strlen(o->surffile);
+    int rc = l > 4 && !strcmp(o->surffile + l - 4, ".msh") ? aug_surface_gmsh(o->surffile, &o->surf.all, &e)
+                                                           : aug_stl_read(o->surffile, &o->surf.all, &e);
+    if (!rc) rc = aug_cutsurf_surface(&o->surf, o->have_adv ? o->adv : NULL, &e);
+    if (rc) aug_tool_usage(t, "--surface %s", e.msg);
+}
+
 static void parse(aug_tool *t, int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
@@ -116,21 +149,24 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_INT("--seed", &o->seed, 0, LONG_MAX, "an integer >= 0")},
         {AUG_OPT_REAL("--pull", &o->pull, -HUGE_VAL, HUGE_VAL, "a force")},
         {AUG_OPT_REAL("--snap-tol", &o->snap_tol, 0, 0.5, "a number in [0, 0.5)"), .flags = AUG_OPT_HI_OPEN},
-        {AUG_OPT_CHOICE("--mode", &o->mode, modes, "split or snap")},
+        {AUG_OPT_CHOICE("--mode", &o->mode, modes, "split or snap"), .given = &o->mode_given},
         {AUG_OPT_CHOICE("--detached", &o->policy, policies, "error, pin, drop or keep")},
         {AUG_OPT_CALL("--constrain", constrain, o, "SET or box:LO,HI, optionally =u,v[,w] and @STEP")},
         {AUG_OPT_CALL("--drag", constrain, o, "SET:dx,dy,dz or box:LO,HI:dx,dy,dz (finite numbers)")},
         {AUG_OPT_STRING("--path", &o->pathfile, "a file"), .flags = AUG_OPT_ONCE},
+        {AUG_OPT_STRING("--blade", &o->bladefile, "a file"), .flags = AUG_OPT_ONCE},
+        {AUG_OPT_STRING("--surface", &o->surffile, "a file"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_FLAG("--stats", &o->stats)},
         {AUG_OPT_FLAG("--deflate", &o->deflate)},
         {AUG_OPT_FLAG("--chords", &o->chords)},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (!nsteps) aug_tool_usage(t, "--steps N is required");
-    if (o->plane && o->pathfile) aug_tool_usage(t, "give exactly one of --plane and --path");
-    else if (!o->plane && !o->pathfile && !o->ncon)
-        aug_tool_usage(t, "give exactly one of --plane and --path (or --constrain/--drag alone: "
-                       "deformation-only steps)");
+    int ncut = !!o->plane + !!o->pathfile + !!o->bladefile + !!o->surffile;
+    if (ncut > 1) aug_tool_usage(t, "give exactly one of --plane, --path, --blade and --surface");
+    else if (!ncut && !o->ncon)
+        aug_tool_usage(t, "give exactly one of --plane, --path, --blade and --surface (or --constrain/--drag "
+                       "alone: deformation-only steps)");
     for (int i = 0; i < o->ncon; i++)
         if (o->steps >= 1 && o->con[i].step > o->steps)
             aug_tool_usage(t, "--constrain at step %ld after the last step %ld", o->con[i].step, o->steps);
@@ -143,6 +179,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
             fclose(f);
         }
     }
+    if (o->bladefile || o->surffile) parse_surface(t, o);
     aug_tool_usage_done(t, synopsis);
 }
 
@@ -172,6 +209,10 @@ int main(int argc, char **argv)
     aug_tool_check(&t, aug_replay_start(&rp, &e), &e);
     if (o.pathfile && (m->dim != 2 || m->etype != AUG_TRI3))
         aug_tool_die(&t, "%s: --path needs a 2-D triangle mesh", t.inname);
+    const char *sopt = o.bladefile ? "--blade" : "--surface", *sfile = o.bladefile ? o.bladefile : o.surffile;
+    if (sfile && m->dim != 3) aug_tool_die(&t, "%s: %s needs a 3-D mesh", t.inname, sopt);
+    if (sfile && aug_cutsurf_meets(&o.surf, m) == 0)
+        aug_tool_die(&t, "%s: %s %s misses the mesh (no part of it meets the mesh's box)", t.inname, sopt, sfile);
     aug_cutter c;
     aug_tool_check(&t, aug_cutter_init(&c, m, rp.nn0, rp.map0, rp.nfree0, &e), &e);
     c.policy = o.policy;
@@ -179,6 +220,9 @@ int main(int argc, char **argv)
     c.pull = o.pull;
     aug_plane_cut pc;
     aug_path_cut pp;
+    aug_blade_cut bcut;
+    memset(&bcut, 0, sizeof bcut);
+    if (sfile) aug_tool_check(&t, aug_blade_cut_init(&bcut, m, o.mode, o.snap_tol, &e), &e);
     memset(&pc, 0, sizeof pc);
     memset(&pp, 0, sizeof pp);
     int64_t per = o.per_step;
@@ -208,6 +252,10 @@ int main(int argc, char **argv)
         } else if (o.pathfile) {
             double s_to = o.path.total * (double)k / (double)o.steps;
             aug_tool_check(&t, aug_path_step(&pp, &c.ed, s_to, &st.seg, &st.nseg, &e), &e);
+        } else if (sfile) {
+            aug_tool_check(&t, aug_cutsurf_step(&o.surf, k, o.steps, &e), &e);
+            aug_tool_check(&t, aug_blade_cut_step(&bcut, &c.ed, &c.fn, o.surf.step.t, o.surf.step.n, &st.seg,
+                                                  &st.nseg, &e), &e);
         }
         nseg += st.nseg;
         aug_tool_check(&t, aug_cutter_apply(&c, &st, &e), &e);
@@ -222,6 +270,9 @@ int main(int argc, char **argv)
         aug_progress(&t, k, o.steps);
     }
     if (o.pathfile && nseg == 0) aug_tool_die(&t, "%s: --path %s misses the mesh", t.inname, o.pathfile);
+    if (sfile && bcut.nface == 0) aug_tool_die(&t, "%s: %s %s misses the mesh (it cuts no face)", t.inname, sopt, sfile);
+    aug_blade_cut_free(&bcut);
+    aug_cutsurf_free(&o.surf);
     aug_tool_close(&t);
     aug_plane_free(&pc);
     aug_path_cut_free(&pp);

@@ -359,8 +359,8 @@ int aug_edgemap_link(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
 /* Remove v from the slots of {a, b}; deletes the entry when both are free. */
 void aug_edgemap_unlink(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
 
-/* Split mode surgery on tri3 meshes: insert a node on edge (a, b) at parameter
-   s (0 < s < 1) splitting both triangles that share the edge, or inside
+/* Split mode surgery on tri3 and tet4 meshes: insert a node on edge (a, b) at parameter
+   s (0 < s < 1) splitting every simplex that shares the edge, or (tri3) inside
    triangle t at barycentric l. Cut edges through the split edge follow it. */
 int32_t aug_split_edge(aug_edit *ed, aug_edgemap *cut, int32_t a, int32_t b, double s,
                        aug_err *e);
@@ -481,5 +481,128 @@ int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e);
    pieces, flags) and tIMe (time_ms = ms). */
 int aug_cut_step_write(aug_writer *w, const aug_mesh *m, const aug_cut_step *s, int stats,
                        int64_t n, double ms, aug_err *e);
+
+/* ---- Swept blades and cut surfaces in 3-D (issue 13; lib/cut/sweep*.c, blade*.c) ----
+   A blade is a segment a-b; its key positions (blade file lines "blade ax ay az
+   bx by bz") are passed at equal intervals of the motion time tau in [0, 1]
+   (key i at i / (nkey - 1)); between two keys the ends move straight, or along
+   the Bezier curves whose inner control positions are the "curve" lines
+   between them (one: quadratic, two: cubic, up to AUG_BLADE_MAXCTRL). The
+   cut surface is the one the blade sweeps (man/cut.1). */
+#define AUG_BLADE_MAXCTRL 8
+#define AUG_BLADE_SUB 16         /* samples of tau per curved key interval */
+typedef struct aug_blade {
+    int nkey;
+    double *key;                 /* nkey * 6: a, b of each key position */
+    int *nctrl;                  /* per key interval (nkey - 1): control positions */
+    double *ctrl;                /* per key interval: AUG_BLADE_MAXCTRL * 6 */
+} aug_blade;
+/* Parse a blade file (syntax in man/cut.1); errors name the file and line. */
+int aug_blade_parse(FILE *f, const char *name, aug_blade *b, aug_err *e);
+void aug_blade_free(aug_blade *b);
+/* The blade at motion time tau: a = p, b = p + 3 (Bernstein form of the key
+   interval's Bezier curve, thesis 003 eq. 3.4; degree 1 between plain keys). */
+void aug_blade_at(const aug_blade *b, double tau, double p[6]);
+
+/* A triangle soup: the cut surface so far. */
+typedef struct aug_soup {
+    int64_t n, cap;
+    double *t;                   /* 9 per triangle */
+} aug_soup;
+void aug_soup_free(aug_soup *s);
+/* Append triangle (p, q, r) unless its area is <= 1e-12 * the squared
+   longest edge (a blade that does not move): 1 appended, 0 skipped, -1 memory. */
+int aug_soup_add(aug_soup *s, const double *p, const double *q, const double *r);
+/* s += the surface the blade sweeps for tau in [t0, t1]: the quads between
+   its positions at t0, t1, the key times between them and, on a curved
+   interval, the times j / AUG_BLADE_SUB of the interval between them, each
+   quad (a_i, b_i, b_j, a_j) as the triangles (a_i, b_i, b_j), (a_i, b_j, a_j). */
+int aug_blade_sweep(const aug_blade *b, double t0, double t1, aug_soup *s);
+/* A triangle surface file: binary or ASCII STL (sweep_stl.c); a gmsh .msh
+   surface mesh through aug_surface_gmsh (lib/cli, needs -lgmsh). */
+int aug_stl_read(const char *path, aug_soup *s, aug_err *e);
+/* Sort s's triangles by their centroids' coordinate along dir (NULL: the
+   axis of the widest extent of the centroids) and fill key[] (s->n) with that
+   coordinate mapped to [0, 1]: the progressive order of a --surface cut. */
+int aug_soup_order(aug_soup *s, const double *dir, double *key, aug_err *e);
+
+/* Uniform hash grid of boxes (boxgrid.c): items with bounding boxes; a query
+   lists each item whose box meets the query box once. */
+typedef struct aug_boxgrid {
+    double h, lo[3];             /* cell size, origin */
+    size_t cap, used;            /* hash slots, filled */
+    uint64_t *key;               /* cell id + 1, 0 empty */
+    int32_t *head;               /* per slot: first entry */
+    int64_t nent, capent;
+    int32_t *item, *next;        /* entries: item, next entry of the cell (-1 end) */
+    int64_t capmark;
+    uint32_t *mark, gen;         /* per item: query generation */
+} aug_boxgrid;
+int aug_boxgrid_init(aug_boxgrid *g, double h, const double lo[3]);
+void aug_boxgrid_free(aug_boxgrid *g);
+int aug_boxgrid_add(aug_boxgrid *g, int32_t item, const double lo[3], const double hi[3]);
+/* out (*n items, *cap room, grown) = the items whose box meets [lo, hi]. */
+int aug_boxgrid_query(aug_boxgrid *g, const double lo[3], const double hi[3], int32_t **out,
+                      int64_t *n, int64_t *cap);
+
+/* Geometry (tri_geom.c). Segment p-q against triangle t (9 doubles): 1 when
+   it crosses the triangle's plane strictly between its ends (signed
+   distances of p and q of opposite signs, |.| > eps, Moller & Trumbore 1997
+   in the barycentric form) at a point inside the closed triangle (to 1e-9
+   of its size), *s its parameter on p-q; else 0. */
+int aug_seg_tri(const double *p, const double *q, const double *t, double eps, double *s);
+/* Distance of point p from triangle t (Ericson, Real-Time Collision
+   Detection, 2005, sec. 5.1.5: the closest point by Voronoi regions). */
+double aug_point_tri(const double *p, const double *t);
+
+/* A 3-D cut along a swept or given surface (blade_cut.c). mode AUG_PATH_SNAP:
+   the faces between two elements whose centroids the surface separates (the
+   segment between them crosses it, aug_seg_tri) open by node duplication, no
+   new elements (AMPS sec. 4.3.2 for a plane); any element type.
+   AUG_PATH_SPLIT (tet4): every edge the surface crosses is split at the
+   crossing (aug_split_edge, both ends farther than tol times the edge; a
+   nearer end is snapped, i.e. taken as lying on the surface), then the faces
+   whose nodes all lie on the surface open by node duplication. */
+typedef struct aug_blade_cut {
+    int mode;
+    double tol;                  /* split: snap tolerance, relative to the edge */
+    double eps, h, hon;          /* 1e-12 * mesh size; longest element edge; 1e-9 h */
+    double lo[3], hi[3];         /* the mesh's box, widened by h */
+    int64_t nsplit;              /* split: edges split so far */
+    aug_soup soup;               /* the surface so far */
+    aug_boxgrid tg, eg;          /* triangles of soup; elements (their boxes) */
+    aug_edgemap pairs;           /* snap: cut element pairs */
+    unsigned char *on;           /* split: node lies on the surface (capon nodes) */
+    int64_t capon;
+    int64_t nface;               /* faces cut so far */
+    int32_t *buf, *buf2;         /* query workspaces */
+    int64_t nbuf, capbuf, nbuf2, capbuf2;
+} aug_blade_cut;
+/* What one cut step realises (sweep_steps.c): step k of n of a blade
+   (blade = 1, b) its sweep for tau in [(k-1)/n, k/n] (aug_blade_sweep); of a
+   surface (blade = 0, all, ordered by aug_cutsurf_surface along dir, NULL:
+   the widest axis) the triangles of key in ((k-1)/n, k/n], from 0 at k = 1
+   and every one left at k = n. The step's triangles: step. */
+typedef struct aug_cutsurf {
+    int blade;
+    aug_blade b;
+    aug_soup all, step;
+    double *key;
+    int64_t next;
+} aug_cutsurf;
+void aug_cutsurf_free(aug_cutsurf *s);
+int aug_cutsurf_surface(aug_cutsurf *s, const double *dir, aug_err *e);
+int aug_cutsurf_step(aug_cutsurf *s, long k, long n, aug_err *e);
+/* 1 when the box of some triangle of the whole surface meets the mesh's, 0
+   not, -1 memory. */
+int aug_cutsurf_meets(const aug_cutsurf *s, const aug_mesh *m);
+
+int aug_blade_cut_init(aug_blade_cut *bc, const aug_mesh *m, int mode, double tol, aug_err *e);
+void aug_blade_cut_free(aug_blade_cut *bc);
+/* One step: the triangles add[0..nadd) join the surface; the faces they cut
+   open (appending their edges to seg); fn: the face neighbours of the mesh
+   before the step (the cutter's). */
+int aug_blade_cut_step(aug_blade_cut *bc, aug_edit *ed, const aug_facenbr *fn, const double *add,
+                       int64_t nadd, double **seg, int64_t *nseg, aug_err *e);
 
 #endif

@@ -1,5 +1,5 @@
 /* Reading gmsh .msh files (v2.2 and v4.1, ASCII and binary) through the gmsh C
-   API. Only meshload links this (with -lgmsh). */
+   API. meshload and cut link this (with -lgmsh). */
 #ifndef AUG_GMSH_H
 #define AUG_GMSH_H
 
@@ -26,5 +26,10 @@ void aug_gmsh_free(aug_tagged *t);
    when the reply is cut short or malformed (t empty). */
 int aug_tagged_send(int fd, int code, const aug_tagged *t, const aug_err *e);
 int aug_tagged_recv(int fd, aug_tagged *t, aug_err *e);
+
+/* s += the triangles of a gmsh surface mesh (a .msh file of triangles and no
+   volume elements; surface_gmsh.c): cut --surface. Also linked by cut. */
+struct aug_soup;
+int aug_surface_gmsh(const char *path, struct aug_soup *s, aug_err *e);
 
 #endif

@@ -1,6 +1,6 @@
-/* Split mode surgery on tri3 meshes (thesis ch. 3.1.2, fig. 3.4): a node on an
-   edge splits both triangles sharing it (conforming), a node inside a triangle
-   splits it in three. */
+/* Split mode surgery (thesis ch. 3.1.2, fig. 3.4): a node on an edge splits
+   every triangle or tetrahedron sharing it (conforming), a node inside a
+   triangle splits it in three. */
 #include <stdlib.h>
 #include <string.h>
 #include "aug_cut.h"
@@ -14,48 +14,57 @@ static int nfixed(const aug_edit *ed, int32_t q)
     return n;
 }
 
-/* new node r = (1-s) a + s b splits edge ab: each triangle (a, b, c) on it becomes
-   (a, r, c) and (r, b, c), conforming (thesis 003 sec. 3.1.2); r's parent is the
-   end with fewer constrained components (the nearer on ties); a cut edge ab
-   becomes ar and rb */
+/* new node r = (1-s) a + s b splits edge ab: each simplex (a, b, ...) on it
+   (triangle or tetrahedron) becomes (a, r, ...) and (r, b, ...), the orientation
+   kept and the mesh conforming (thesis 003 sec. 3.1.2; edge bisection in 3-D,
+   Rivara 1991); r's parent is the end with fewer constrained components (the
+   nearer on ties); a cut edge ab becomes ar and rb */
 int32_t aug_split_edge(aug_edit *ed, aug_edgemap *cut, int32_t a, int32_t b, double s,
                        aug_err *e)
 {
     aug_err_clear(e);
+    int dim = ed->m->dim, nv = ed->m->nv;
     const double *xa = aug_edit_x(ed, a), *xb = aug_edit_x(ed, b);
-    double x[2] = {(1 - s) * xa[0] + s * xb[0], (1 - s) * xa[1] + s * xb[1]};
+    double x[3];
+    for (int k = 0; k < dim; k++) x[k] = (1 - s) * xa[k] + s * xb[k];
     /* the new node inherits the constraints of the less constrained end (nearer on ties) */
     int fa = nfixed(ed, a), fb = nfixed(ed, b);
     int32_t parent = fa < fb ? a : (fb < fa ? b : (s <= 0.5 ? a : b));
-    int32_t tris[8];
-    int nt = 0;
     const aug_adj *adj = ed->adj;
-    for (int32_t i = 0; i < adj->cnt[a] && nt < 8; i++) {
+    int32_t na = adj->cnt[a], nt = 0;
+    int32_t *tris = aug_malloc((size_t)na * sizeof *tris + 1);
+    if (!tris) goto nomem;
+    for (int32_t i = 0; i < na; i++) {
         int32_t t = adj->list[a][i];
         const int32_t *c = aug_edit_conn(ed, t);
-        if (c[0] == b || c[1] == b || c[2] == b) tris[nt++] = t;
+        for (int k = 0; k < nv; k++)
+            if (c[k] == b) tris[nt++] = t;
     }
-    if (nt == 0)
+    if (nt == 0) {
+        free(tris);
         return aug_err_set(e, AUG_EUSAGE, -1, "MDLT", "nodes %d and %d share no edge", (int)a, (int)b);
+    }
     int32_t r = aug_edit_node(ed, x, parent);
     if (r < 0) goto nomem;
     for (int i = 0; i < nt; i++) {
-        int32_t c1[3], c2[3];
-        memcpy(c1, aug_edit_conn(ed, tris[i]), sizeof c1);
+        int32_t c1[4], c2[4];
+        memcpy(c1, aug_edit_conn(ed, tris[i]), (size_t)nv * sizeof *c1);
         memcpy(c2, c1, sizeof c2);
-        for (int k = 0; k < 3; k++) {
-            if (c1[k] == b) c1[k] = r; /* (a, r, c) */
-            if (c2[k] == a) c2[k] = r; /* (r, b, c) */
+        for (int k = 0; k < nv; k++) {
+            if (c1[k] == b) c1[k] = r; /* (a, r, ...) */
+            if (c2[k] == a) c2[k] = r; /* (r, b, ...) */
         }
         int32_t mat = aug_edit_mat(ed, tris[i]);
         if (aug_edit_set(ed, tris[i], c1) || aug_edit_elem(ed, c2, mat) < 0) goto nomem;
     }
+    free(tris);
     if (cut && aug_edgemap_get(cut, a, b)) {
         aug_edgemap_del(cut, a, b);
         if (!aug_edgemap_put(cut, a, r) || !aug_edgemap_put(cut, r, b)) goto nomem;
     }
     return r;
 nomem:
+    free(tris);
     aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
     return -1;
 }
