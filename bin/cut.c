@@ -36,7 +36,8 @@ static const char *help =
     "  --surface SFILE      3-D: cut along a triangle surface (STL, or a gmsh .msh surface\n"
     "                       mesh), realised in the order of --advance (default: widest axis)\n"
     "                       blade and surface: --mode snap (default) or split (tet4)\n"
-    "  --snap-tol T         split mode: snap to a node within T of an edge (default 0.05)\n"
+    "  --snap-tol T         split mode: snap to a node within T of an edge (default 0.05;\n"
+    "                       --blade and --surface: 0.2)\n"
     "  --chords             split mode: no vertex at the curvature maximum inside an\n"
     "                       element, chords between the crossings only (thesis fig. 3.5)\n"
     "  --steps N            number of cut steps (N >= 1)\n"
@@ -56,7 +57,7 @@ static const char *help =
 
 typedef struct options {
     const char *file, *pathfile, *bladefile, *surffile;
-    int plane, random_plane, have_adv, mode, mode_given, policy, stats, deflate, chords;
+    int plane, random_plane, have_adv, mode, mode_given, tol_given, policy, stats, deflate, chords;
     aug_cutsurf surf;          /* --blade or --surface */
     int npoly;                 /* --polygon vertices (3-D points) */
     double poly[3 * 64];
@@ -116,6 +117,7 @@ static void parse_surface(aug_tool *t, options *o)
     aug_err e;
     memset(&o->surf, 0, sizeof o->surf);
     if (!o->mode_given) o->mode = AUG_PATH_SNAP;
+    if (!o->tol_given) o->snap_tol = 0.2; /* 3-D split: fewer, better tets (cut(1)) */
     if (o->bladefile) {
         FILE *f = fopen(o->bladefile, "r");
         if (!f) aug_tool_usage(t, "--blade %s: cannot open it", o->bladefile);
@@ -148,7 +150,8 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_INT("--per-step", &o->per_step, 1, LONG_MAX, "a count >= 1")},
         {AUG_OPT_INT("--seed", &o->seed, 0, LONG_MAX, "an integer >= 0")},
         {AUG_OPT_REAL("--pull", &o->pull, -HUGE_VAL, HUGE_VAL, "a force")},
-        {AUG_OPT_REAL("--snap-tol", &o->snap_tol, 0, 0.5, "a number in [0, 0.5)"), .flags = AUG_OPT_HI_OPEN},
+        {AUG_OPT_REAL("--snap-tol", &o->snap_tol, 0, 0.5, "a number in [0, 0.5)"), .flags = AUG_OPT_HI_OPEN,
+         .given = &o->tol_given},
         {AUG_OPT_CHOICE("--mode", &o->mode, modes, "split or snap"), .given = &o->mode_given},
         {AUG_OPT_CHOICE("--detached", &o->policy, policies, "error, pin, drop or keep")},
         {AUG_OPT_CALL("--constrain", constrain, o, "SET or box:LO,HI, optionally =u,v[,w] and @STEP")},
@@ -163,10 +166,10 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (!nsteps) aug_tool_usage(t, "--steps N is required");
     int ncut = !!o->plane + !!o->pathfile + !!o->bladefile + !!o->surffile;
-    if (ncut > 1) aug_tool_usage(t, "give exactly one of --plane, --path, --blade and --surface");
+    if (ncut > 1) aug_tool_usage(t, "give exactly one of --plane and --path (3-D: or --blade, --surface)");
     else if (!ncut && !o->ncon)
-        aug_tool_usage(t, "give exactly one of --plane, --path, --blade and --surface (or --constrain/--drag "
-                       "alone: deformation-only steps)");
+        aug_tool_usage(t, "give exactly one of --plane and --path (or --constrain/--drag alone: "
+                       "deformation-only steps; 3-D: or --blade, --surface)");
     for (int i = 0; i < o->ncon; i++)
         if (o->steps >= 1 && o->con[i].step > o->steps)
             aug_tool_usage(t, "--constrain at step %ld after the last step %ld", o->con[i].step, o->steps);

@@ -341,10 +341,26 @@ static int mark_close(aug_blade_cut *bc, const aug_edit *ed, int64_t el)
     return 0;
 }
 
-/* The first crossing of edge a-b with the surface that is not at an end on
-   it already: 1 and *s, else 0; -1 memory. */
-static int edge_cross(aug_blade_cut *bc, const aug_edit *ed, int32_t a, int32_t b, double *s)
+/* lexicographic order of points */
+static int before(const double *p, const double *q)
 {
+    for (int k = 0; k < 3; k++)
+        if (p[k] != q[k]) return p[k] < q[k];
+    return 0;
+}
+
+/* The first crossing of edge a-b with the surface that is not at an end on
+   it already: 1 and *s, else 0; -1 memory. The ends are put in
+   lexicographic order of their points first, so that the coincident copies
+   of an edge on the two sides of an earlier cut split at the same point. */
+static int edge_cross(aug_blade_cut *bc, const aug_edit *ed, int32_t *pa, int32_t *pb, double *s)
+{
+    if (before(aug_edit_x(ed, *pb), aug_edit_x(ed, *pa))) {
+        int32_t t = *pa;
+        *pa = *pb;
+        *pb = t;
+    }
+    int32_t a = *pa, b = *pb;
     const double *xa = aug_edit_x(ed, a), *xb = aug_edit_x(ed, b);
     double lo[3], hi[3], p[3], q[3];
     for (int k = 0; k < 3; k++) lo[k] = fmin(xa[k], xb[k]), hi[k] = fmax(xa[k], xb[k]);
@@ -396,7 +412,7 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
             int32_t a = c[tet_edge[k][0]], b = c[tet_edge[k][1]];
             if (bc->on[a] && bc->on[b]) continue;
             double s;
-            int rc = edge_cross(bc, ed, a, b, &s);
+            int rc = edge_cross(bc, ed, &a, &b, &s);
             if (rc < 0) goto nomem;
             if (!rc) continue;
             if (s <= bc->tol) {

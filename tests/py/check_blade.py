@@ -4,7 +4,8 @@ formats/stream.md 7.1, 7.2, 7.6), written from the man page and the format.
 
 usage: check_blade.py IN.aug OUT.aug [--stl FILE]
 
-IN: an uncut 3-D stream (meshload | factor); OUT: IN through one cut --blade
+IN: a 3-D stream (meshload | factor, perhaps cut already: its steps are
+replayed and its open faces, and the faces inside them, count as cut before); OUT: IN through one cut --blade
 BFILE or --surface FILE (an ASCII STL given again as --stl, or a blade file)
 stage, whose pROv says --steps, --mode, --snap-tol. The swept surface of each
 step is built here from the blade file as cut(1) defines it (positions by the
@@ -28,7 +29,8 @@ BDLT records:
 - K_t and f_t accumulated from K_0 and the UPDT records (k = 3 * new nodes)
   equal the cut system assembled here from scratch (tests/py/cutsys.py), entry
   by entry within 1e-12 * max|K|.
-Prints 'ok steps=S nodes=N elements=E cut_faces=F max_m=M' or the first
+Prints 'ok steps=S nodes=N elements=E cut_faces=F max_m=M min_vol_ratio=R'
+(R: the least element volume over the least one of the input) or the first
 failure ('FAIL step N: ...'), exit 1."""
 import math
 import os
@@ -211,7 +213,7 @@ def main():
     o = options(prov)
     nsteps = int(o["--steps"])
     mode = o.get("--mode", "snap")
-    tol = float(o.get("--snap-tol", "0.05"))
+    tol = float(o.get("--snap-tol", "0.2"))  # cut(1): the default of --blade and --surface
     m = augstream.mesh(rin)
     cm = cutsys.CutMesh(m)
     if cm.dim != 3:
@@ -239,14 +241,38 @@ def main():
     if err:
         fail("K_0: " + err)
     outer = conform.boundary_index(x0, cm.conn, 1e-10 * scale)
-    origin = list(range(len(x0)))
+    origin, inserted = list(range(len(x0))), {}
     mesh0 = {"x": cm.x, "conn": cm.conn, "nv": cm.nv}
     vol0 = sum(augstream.measure(mesh0, e) for e in range(len(cm.conn)))
-    steps = sorted({s for t, fl, s, p in rout if t == "MDLT"})
+    # the steps of IN (an earlier cut): replayed, their open faces cut before
+    old = sorted({s for t, fl, s, p in rin if t == "MDLT"})
+    for step in old:
+        recs = {t: p for t, fl, s, p in rin if s == step}
+        d = cutsys.mdlt(recs["MDLT"], 3, cm.nv)
+        nb = len(cm.x)
+        cm.apply_mdlt(d)
+        if "BDLT" in recs:
+            cm.apply_bdlt(cutsys.bdlt(recs["BDLT"]))
+        for q, par in enumerate(d["parent"]):
+            origin.append(origin[par] if cm.x[nb + q] == cm.x[par] else inserted.setdefault(cm.x[nb + q], nb + q))
+        err = cutsys.apply_updt(K, f, cutsys.updt(recs["UPDT"]))
+        if err:
+            fail("step %d of the input: %s" % (step, err))
+    before, e = conform.open_faces(cm.x, conform.face_map(cm.conn), outer, origin)
+    if e:
+        fail("the input: " + e)
+    # the input's cut faces, for faces a split later divides: a face inside one of them is old
+    old_idx = conform.FaceIndex([[cm.x[v] for v in uses[1]] for uses in before.values()], 1e-10 * scale)
+
+    def is_old(g, f1):
+        return g in before or (before and old_idx.find([cm.x[v] for v in f1]) >= 0)
+    steps = sorted({s for t, fl, s, p in rout if t == "MDLT"} - set(old))
     if len(steps) != nsteps:
         fail("%d MDLT records for --steps %d" % (len(steps), nsteps))
     pairs, maxm, ncut = {}, 0, 0
     cen = [None] * len(cm.conn)
+    minvol = min(augstream.measure({"x": cm.x, "conn": cm.conn, "nv": cm.nv}, e) for e in range(len(cm.conn)))
+    worst = 1.0
 
     def centroid(e):
         if e >= len(cen) or cen[e] is None:
@@ -257,7 +283,9 @@ def main():
             return v
         return cen[e]
 
-    def cut_snap(e1, e2):
+    def cut_snap(e1, e2, key=None):
+        if key in before:
+            return True
         p, q = centroid(e1), centroid(e2)
         lo_ = [min(p[k], q[k]) - eps for k in range(3)]
         hi_ = [max(p[k], q[k]) + eps for k in range(3)]
@@ -276,12 +304,14 @@ def main():
                 cm.apply_bdlt(cutsys.bdlt(recs["BDLT"]))
         except cutsys.Bad as e:
             fail(where + str(e))
-        for q, par in enumerate(d["parent"]):
-            origin.append(origin[par] if cm.x[nn_before + q] == cm.x[par] else nn_before + q)
+        for q, par in enumerate(d["parent"]):  # nodes inserted at one point (two sides of a cut) share an origin
+            v = nn_before + q
+            origin.append(origin[par] if cm.x[v] == cm.x[par] else inserted.setdefault(cm.x[v], v))
         mesh = {"x": cm.x, "conn": cm.conn, "nv": cm.nv}
         vols = [augstream.measure(mesh, e) for e in range(len(cm.conn))]
         if min(vols) <= 0:
             fail(where + "element %d has volume %g" % (vols.index(min(vols)), min(vols)))
+        worst = min(worst, min(vols) / minvol)
         if abs(sum(vols) - vol0) > REL * vol0:
             fail(where + "volume %.17g, was %.17g" % (sum(vols), vol0))
         fm = conform.face_map(cm.conn)
@@ -299,7 +329,7 @@ def main():
                 if cm.x[nn_before + q] != cm.x[par]:
                     fail(where + "new node %d is no copy of its parent %d" % (nn_before + q, par))
             for g, (e1, f1, e2, f2) in pairs.items():
-                if not cut_snap(e1, e2):
+                if not is_old(g, f1) and not cut_snap(e1, e2):
                     fail(where + "the face %s between elements %d and %d is open, but the segment between their"
                          " centroids does not cross the surface" % (list(g), e1, e2))
             if "--blade" in o or si == len(steps) - 1:  # a surface is checked whole, at its end
@@ -310,6 +340,8 @@ def main():
                 if cm.x[v] != cm.x[par] and grid.dist(cm.x[v], 1e-9 * h) > 1e-9 * h:
                     fail(where + "inserted node %d at %s is not on the surface" % (v, cm.x[v]))
             for g, (e1, f1, e2, f2) in pairs.items():
+                if is_old(g, f1):
+                    continue
                 P = [cm.x[v] for v in f1]
                 lim = tol * h + 1e-9 * h
                 for p in P + [[sum(c[k] for c in P) / 3 for k in range(3)]]:
@@ -326,7 +358,8 @@ def main():
         err = cutsys.check(cm, K, f, REL, full=si == 0 or si == len(steps) - 1)
         if err:
             fail(where + "the accumulated updates against an independent assembly: " + err)
-    print("ok steps=%d nodes=%d elements=%d cut_faces=%d max_m=%d" % (len(steps), len(cm.x), len(cm.conn), ncut, maxm))
+    print("ok steps=%d nodes=%d elements=%d cut_faces=%d max_m=%d min_vol_ratio=%.3g"
+          % (len(steps), len(cm.x), len(cm.conn), ncut, maxm, worst))
 
 
 def star_check(cm, pairs, cut, where):
@@ -355,7 +388,7 @@ def star_check(cm, pairs, cut, where):
                 if any(x[v] == P for v in fc):
                     byface.setdefault(conform.geo_key(x, fc), []).append(e)
         for key, fe in byface.items():
-            if len(fe) == 2 and not cut(fe[0], fe[1]):
+            if len(fe) == 2 and not cut(fe[0], fe[1], key):
                 a, b = root(fe[0]), root(fe[1])
                 up[max(a, b)] = min(a, b)
         classes = {}
