@@ -376,6 +376,27 @@ static int edge_cross(aug_blade_cut *bc, const aug_edit *ed, int32_t *pa, int32_
     return 0;
 }
 
+/* every node of el farther than 1e-9 h from t's plane, all on one side:
+   the triangle cannot meet the element */
+static int apart(const aug_blade_cut *bc, const aug_edit *ed, int32_t el, const double *t)
+{
+    double u[3], v[3], n[3];
+    for (int k = 0; k < 3; k++) u[k] = t[3 + k] - t[k], v[k] = t[6 + k] - t[k];
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    int plus = 0, minus = 0;
+    const int32_t *c = aug_edit_conn(ed, el);
+    for (int a = 0; a < ed->m->nv; a++) {
+        const double *x = aug_edit_x(ed, c[a]);
+        double d = (n[0] * (x[0] - t[0]) + n[1] * (x[1] - t[1]) + n[2] * (x[2] - t[2])) / l;
+        plus += d > bc->hon;
+        minus += d < -bc->hon;
+    }
+    return plus == ed->m->nv || minus == ed->m->nv;
+}
+
 static const int tet_edge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
 /* Split (thesis 003 sec. 3.1.2 in 3-D): every tet edge that the new surface
@@ -398,7 +419,7 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
         if (!clip_box(bc, lo, hi, bc->hon, a, b)) continue;
         if (aug_boxgrid_query(&bc->eg, a, b, &bc->buf, &bc->nbuf, &bc->capbuf)) goto nomem;
         for (int64_t i = 0; i < bc->nbuf; i++)
-            if (q_push(&w, bc->buf[i])) goto nomem;
+            if (!apart(bc, ed, bc->buf[i], bc->soup.t + 9 * t) && q_push(&w, bc->buf[i])) goto nomem;
     }
     for (int64_t i = 0; i < w.n; i++)
         if (mark_close(bc, ed, w.q[i])) goto nomem;
