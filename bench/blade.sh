@@ -90,9 +90,9 @@ column -s, -t < $SUM
 
 if command -v gnuplot > /dev/null; then
     gnuplot <<GP
+set datafile separator ","
 set terminal pngcairo size 1500,500
 set output "$OUT/blade.png"
-set datafile separator ","
 set multiplot layout 1,3
 set title "blade cut step (brain + CSF, $STEPS steps) vs 10% of a solve"
 set logscale y
@@ -111,6 +111,7 @@ plot "$CSV" using (strcol(1) eq "snap" ? \$2 : 1/0):4 with linespoints pt 7 titl
      "$CSV" using (strcol(1) eq "split" ? \$2 : 1/0):5 with linespoints pt 4 title "k, split"
 set title "solve per step: AMPS vs refactor"
 set ylabel "ms"
+set key bottom right
 set logscale y
 plot "$SOL" using (strcol(1) eq "snap" && strcol(3) eq "amps" ? \$2 : 1/0):4 with linespoints pt 7 title "AMPS, snap", \
      "$SOL" using (strcol(1) eq "snap" && strcol(3) eq "refactor" ? \$2 : 1/0):4 with linespoints pt 6 title "refactor, snap", \
