@@ -15,4 +15,5 @@ run deform.sh
 run dynamics.sh
 run modal.sh
 run blade.sh
+run thesis.sh
 exit $status

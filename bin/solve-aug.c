@@ -15,12 +15,14 @@ static const char *synopsis =
     "          [--amps-target R] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
     "          [--reach path|cholmod] [--threads N] [--time-full] [--frames N] [--settle N]\n"
-    "          [--no-reactions] [-h]";
+    "          [--no-reactions] [--pcg-prec none|jacobi|ic] [--cgm-eps E] [--cgm-p P]\n"
+    "          [--cgm-max-n N] [--ns-tol T] [--ns-maxit N] [-h]";
 
 static const char *help =
     "  FILE                 input stream (default: stdin)\n"
-    "  --method LIST        comma list of amps,gmres,refactor,rowupdate,pcg (default amps);\n"
-    "                       the first one's field is written\n"
+    "  --method LIST        comma list of amps,gmres,refactor,rowupdate,pcg, cgm-cov,\n"
+    "                       cgm-es,cgm-log,cgm-as (default amps); the first one's field\n"
+    "                       is written\n"
     "  --check              err_direct: difference to a fresh CHOLMOD solve of K_t\n"
     "  --background         re-factor in a background thread, swap when done (amps, gmres)\n"
     "  --bg-lag N           swap exactly N steps after each start (deterministic)\n"
@@ -46,6 +48,12 @@ static const char *help =
     "  --time-full          time one full CHOLMOD solve of the base every step\n"
     "                       (full_solve_ms; default: the median of 5 at the start)\n"
     "  --no-reactions       no reaction forces (rEAC) per step\n"
+    "  --pcg-prec P         pcg preconditioner: none, jacobi (default) or ic (IC(0))\n"
+    "  --cgm-eps E          cgm-*: D' = D + E I, AS: COV + E I (default 1e-6)\n"
+    "  --cgm-p P            cgm-es: exponent of D' (default 0.5)\n"
+    "  --cgm-max-n N        cgm-*: refuse K_t of order above N (dense; default 8400)\n"
+    "  --ns-tol T           cgm-as: Newton-Schulz relative step tolerance (default 1e-12)\n"
+    "  --ns-maxit N         cgm-as: Newton-Schulz iteration cap (default 100)\n"
     "  -h                   this help; see solve-aug(1)\n";
 
 typedef struct options {
@@ -61,6 +69,8 @@ static const aug_word precs[] = {
     {"none", AUG_PREC_NONE}, {"D", AUG_PREC_D}, {"spai", AUG_PREC_SPAI}, {NULL, 0}};
 static const aug_word singular[] = {{"error", 0}, {"report", 1}, {NULL, 0}};
 static const aug_word reaches[] = {{"path", 0}, {"cholmod", 1}, {NULL, 0}};
+static const aug_word pcg_precs[] = {
+    {"none", AUG_PCG_NONE}, {"jacobi", AUG_PCG_JACOBI}, {"ic", AUG_PCG_IC}, {NULL, 0}};
 
 /* --method LIST: the methods in order */
 static int methods(aug_tool *t, const char *opt, const char *val, void *dst)
@@ -79,9 +89,10 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     aug_solver_opts_default(&o->so);
     o->frames = 1;
     aug_solver_opts *so = &o->so;
-    int nlag = 0, nrtol = 0;
+    int nlag = 0, nrtol = 0, max_n = (int)so->cgm.max_n;
     const aug_opt opt[] = {
-        {AUG_OPT_CALL("--method", methods, so, "a comma list of amps,gmres,refactor,rowupdate,pcg")},
+        {AUG_OPT_CALL("--method", methods, so,
+                      "a comma list of amps,gmres,refactor,rowupdate,pcg,cgm-cov,cgm-es,cgm-log,cgm-as")},
         {AUG_OPT_FLAG("--check", &so->check)},
         {AUG_OPT_FLAG("--time-full", &o->time_full)},
         {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},
@@ -105,9 +116,17 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_THREADS(&so->nthreads)},
         {AUG_OPT_INT("--frames", &o->frames, 1, 100000000, "a count >= 1"), .given = &o->nframes},
         {AUG_OPT_INT("--settle", &o->settle, 0, 100000000, "a count >= 0")},
+        {AUG_OPT_CHOICE("--pcg-prec", &so->pcg_prec, pcg_precs, "none, jacobi or ic")},
+        {AUG_OPT_REAL("--cgm-eps", &so->cgm.eps, 0, 1e300, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
+        {AUG_OPT_REAL("--cgm-p", &so->cgm.p, 0, 1e300, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
+        {AUG_OPT_INT("--cgm-max-n", &max_n, 1, 46340, "1 to 46340")},
+        {AUG_OPT_REAL("--ns-tol", &so->cgm.ns_tol, 0, 1, "a number in (0, 1)"),
+         .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
+        {AUG_OPT_INT("--ns-maxit", &so->cgm.ns_maxit, 1, 100000, "1 to 100000")},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (nlag) so->background = 1;
+    so->cgm.max_n = max_n;
     if (nrtol) so->refine_max = so->refine_tol > 0 ? 3 : 0;
     aug_tool_usage_done(t, synopsis);
 }

@@ -105,6 +105,12 @@ typedef struct aug_cond {
 } aug_cond;
 int aug_cond_estimate(cholmod_sparse *K, cholmod_factor *L, double tol, aug_cond *c,
                       cholmod_common *cm, aug_err *e);
+/* y = A x of a symmetric operator: 0, or -1 on failure */
+typedef int (*aug_symop)(void *ctx, double *x, double *y);
+/* Extreme eigenvalue theta of op by ARPACK Lanczos (which "LA" or "LM", cond.c):
+   1 converged, 0 not within maxit restarts, -1 failure. */
+int aug_lanczos_extreme(int n, aug_symop op, void *ctx, const char *which, double tol, int maxit,
+                        double *theta, int *nops);
 
 /* The nev lowest eigenvalues of K x = lambda M x (lib/fem/modes.c), by
    ARPACK shift-invert on the factor L of F = cM M + cK K (statics: cM = 0,

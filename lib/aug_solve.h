@@ -348,6 +348,27 @@ int aug_rowupd_solve(aug_rowupd *r, int64_t n, const double *rhs, double *x, cho
    (p'Kp <= 0: not positive definite). */
 int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int maxit,
             int *converged, int *breakdown, double *relres, cholmod_common *cm);
+/* The same with preconditioner prec: none (M = I), Jacobi (M = diag(K)) or IC
+   (M = R'R, IC(0) of K, ichol.c); *shift (may be NULL): the IC diagonal shift
+   used. Returns iterations, -1 out of memory or no IC(0) exists. */
+enum { AUG_PCG_NONE, AUG_PCG_JACOBI, AUG_PCG_IC };
+int aug_pcg_prec(const cholmod_sparse *K, const double *f, double *x, int prec, double tol,
+                 int maxit, int *converged, int *breakdown, double *relres, double *shift,
+                 cholmod_common *cm);
+
+/* ichol.c: IC(0) R'R ~ K + shift diag(K), R upper with the pattern of K's
+   upper triangle, the smallest shift of 0, 1e-3, 2e-3, ... without breakdown
+   (0; 1 none of 40 worked; -1 out of memory). */
+typedef struct aug_ichol {
+    int n;
+    int *p, *i;          /* columns of R, rows ascending, the diagonal last */
+    double *x, *k;       /* R, and K's values while factoring */
+    double shift;
+} aug_ichol;
+int aug_ichol_factor(const cholmod_sparse *K, aug_ichol *R);
+/* z = (R'R)^-1 r */
+void aug_ichol_apply(const aug_ichol *R, const double *r, double *z);
+void aug_ichol_free(aug_ichol *R);
 
 /* ---- background re-factorization (bgfactor.c, paper 000 sec. 3.6) ------ */
 
@@ -386,9 +407,66 @@ aug_base *aug_bg_join(aug_bg *bg, aug_err *e);
 int aug_bg_take(aug_bg *bg, int64_t nb, aug_cum *c, aug_amps *a, aug_err *e);
 int32_t aug_bg_step(const aug_bg *bg);
 
+/* ---- thesis 003 sec. 3.5: conditioning transforms (cgm_*.c) ----------- */
+
+/* The variants: the covariance matrix COV of K_t (eq. 3.21); ES-CGM, the
+   recomposition L F(D + eps I) L' of COV = L D L' with F = D^p (eqs.
+   3.22-3.23, 3.25) or F = log (eq. 3.24); AS-CGM, the Newton-Schulz square
+   root of COV + eps I (eq. 3.27). Each is a dense n x n matrix T; the variant
+   solves T x = f_t by Jacobi PCG and x is reported as the displacement. */
+enum { AUG_CGM_COV, AUG_CGM_ES, AUG_CGM_LOG, AUG_CGM_AS, AUG_CGM_COUNT };
+typedef struct aug_cgm_opts {
+    double eps;          /* D' = D + eps I (eq. 3.22); AS: Y = COV + eps I (default 1e-6) */
+    double p;            /* ES exponent of eq. 3.25 (default 1/2) */
+    double ns_tol;       /* AS: stop when ||I - Q_k P_k||_F <= ns_tol (default 1e-10) */
+    int ns_maxit;        /* AS: iteration cap (default 100) */
+    int64_t max_n;       /* dense limit: larger K_t is refused (default 8400) */
+    double cond_tol;     /* ARPACK relative Ritz residual (default 1e-6) */
+} aug_cgm_opts;
+typedef struct aug_cgm_res {
+    double cond, lambda_max, lambda_min; /* of T: largest / smallest |eigenvalue|, signed */
+    int cond_converged;
+    int spd;             /* T positive definite (by its inertia) */
+    int zero_pivots;     /* pivots of COV = L D L' taken as 0 */
+    double cond_k;       /* cond(K_t), the true cut system (cond.c) */
+    int iters, converged, breakdown;
+    double relres_t;     /* ||f - T x|| / ||f|| of the system CG solved */
+    int ref_spd;         /* the fresh CHOLMOD factor of K_t exists */
+    double err;          /* ||x - u|| / ||u||, u = K_t^-1 f_t by a fresh CHOLMOD solve */
+    double err_scaled;   /* min over alpha of ||alpha x - u|| / ||u|| */
+    int ns_iters, ns_converged;
+    double ns_scale, ns_resid; /* AS: c = ||Y||_F, ||P^2 - Y/c||_F / ||Y/c||_F */
+    double t_cov, t_decomp, t_norm, t_recomp, t_cg, t_diag; /* ms */
+} aug_cgm_res;
+void aug_cgm_opts_default(aug_cgm_opts *o);
+/* cgm_cov.c: C (n x n, column-major) = COV of eq. 3.21 of the symmetric K
+   (upper-stored). 0 or AUG_ENOMEM. */
+int aug_cgm_cov(const cholmod_sparse *K, double *C, cholmod_common *cm, aug_err *e);
+/* cgm_es.c: M = L D L' in place (unit L strictly below the diagonal of M, the
+   rest of M destroyed), no pivoting; pivots <= n macheps max|M_jj| are 0 with
+   a zero column of L (M positive semidefinite). Returns the count of such
+   pivots. */
+int aug_cgm_ldl(double *M, int n, double *d);
+/* cgm_es.c: T = L diag(F) L' (eq. 3.23), L from aug_cgm_ldl. */
+void aug_cgm_recompose(const double *L, const double *F, int n, double *T);
+/* cgm_as.c: P ~ (Y/c)^(1/2), c = ||Y||_F, by the coupled Newton-Schulz
+   iteration (eq. 3.27) from P_0 = Y/c, Q_0 = I; 1 converged (||I - Q P||_F <=
+   tol), 0 not within maxit, -1 allocation failure. */
+int aug_cgm_newton_schulz(const double *Y, int n, double tol, int maxit, double *P, int *iters,
+                          double *scale);
+/* cgm_solve.c: the variant's T of K_t, T x = f by Jacobi PCG (tol, maxit) from
+   x = 0, and the figures of r (cond of T by ARPACK, the error against a fresh
+   CHOLMOD solve of K_t). n > o->max_n: AUG_EUSAGE. */
+/* cgm_solve.c: the sTAt and tIMe entries of a variant's result */
+void aug_cgm_put(int variant, const aug_cgm_res *r, const aug_cgm_opts *o, aug_kv *st, aug_kv *tm);
+int aug_cgm_solve(int variant, const cholmod_sparse *K, const double *f, const aug_cgm_opts *o,
+                  double tol, int maxit, double *x, aug_cgm_res *r, cholmod_common *cm,
+                  aug_err *e);
+
 /* ---- the session (solver.c) -------------------------------------------- */
 
-enum { AUG_M_AMPS, AUG_M_GMRES, AUG_M_REFACTOR, AUG_M_ROWUPDATE, AUG_M_PCG, AUG_M_COUNT };
+enum { AUG_M_AMPS, AUG_M_GMRES, AUG_M_REFACTOR, AUG_M_ROWUPDATE, AUG_M_PCG,
+       AUG_M_CGM_COV, AUG_M_CGM_ES, AUG_M_CGM_LOG, AUG_M_CGM_AS, AUG_M_COUNT };
 extern const char *const aug_method_names[AUG_M_COUNT];
 /* "amps,gmres,..." into order[] (returns count, -1 on an unknown name). */
 int aug_parse_methods(const char *s, int order[AUG_M_COUNT]);
@@ -413,6 +491,8 @@ typedef struct aug_solver_opts {
     int reach_cholmod;   /* amps V columns by cholmod_solve2 with Bset */
     int nthreads;
     int dynamic;         /* the matrix is a dynamic stream's A (aug_solver_frame) */
+    aug_cgm_opts cgm;    /* the cgm-* methods (thesis 003 sec. 3.5) */
+    int pcg_prec;        /* AUG_PCG_NONE, AUG_PCG_JACOBI (default) or AUG_PCG_IC */
 } aug_solver_opts;
 void aug_solver_opts_default(aug_solver_opts *o);
 

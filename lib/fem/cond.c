@@ -13,27 +13,29 @@ typedef struct op_ctx {
     cholmod_factor *L;
     cholmod_common *cm;
     cholmod_dense *X, *Y, *E; /* cholmod_solve2 workspace */
-    int failed;
 } op_ctx;
 
-/* y = K x */
-static void op_K(op_ctx *c, double *x, double *y)
+/* y = K x; 0 or -1 */
+static int op_K(void *ctx, double *x, double *y)
 {
-    if (aug_sym_mult(c->K, x, y, c->cm)) c->failed = 1;
+    op_ctx *c = ctx;
+    return aug_sym_mult(c->K, x, y, c->cm) ? -1 : 0;
 }
 
-/* y = K^-1 x = P' L^-T D^-1 L^-1 P x */
-static void op_Kinv(op_ctx *c, double *x, double *y)
+/* y = K^-1 x = P' L^-T D^-1 L^-1 P x; 0 or -1 */
+static int op_Kinv(void *ctx, double *x, double *y)
 {
-    if (aug_factor_apply_inv(c->L, x, y, &c->X, &c->Y, &c->E, c->cm)) c->failed = 1;
+    op_ctx *c = ctx;
+    return aug_factor_apply_inv(c->L, x, y, &c->X, &c->Y, &c->E, c->cm) ? -1 : 0;
 }
 
-/* Largest eigenvalue theta of the symmetric operator op (ARPACK dsaupd, mode 1,
-   which = "LA", nev = 1, ncv <= 24, [ARPACK]) to ARPACK's relative Ritz residual
-   tol, from a fixed start vector. Returns 1 when converged, 0 when not within
-   maxit restarts, -1 on failure; nops = operator applications. */
-static int largest(int n, void (*op)(op_ctx *, double *, double *), op_ctx *c, double tol,
-                   int maxit, double *theta, int *nops)
+/* The extreme eigenvalue theta of the symmetric operator op (ARPACK dsaupd,
+   mode 1, nev = 1, ncv <= 24, [ARPACK]; which = "LA": the largest, "LM": the
+   largest in magnitude, with its sign) to ARPACK's relative Ritz residual tol,
+   from a fixed start vector. Returns 1 when converged, 0 when not within maxit
+   restarts, -1 on failure (op returned -1); nops = operator applications. */
+int aug_lanczos_extreme(int n, aug_symop op, void *c, const char *which, double tol, int maxit,
+                        double *theta, int *nops)
 {
     int ncv = n < 24 ? n : 24, lworkl = ncv * (ncv + 8), ido = 0, info = 1;
     int iparam[11] = {0}, ipntr[14] = {0}, select[24] = {0}; /* dseupd_c copies select even when unused */
@@ -50,11 +52,10 @@ static int largest(int n, void (*op)(op_ctx *, double *, double *), op_ctx *c, d
     }
     iparam[0] = 1, iparam[2] = maxit, iparam[6] = 1;
     for (;;) {
-        dsaupd_c(&ido, "I", n, "LA", 1, tol, resid, ncv, v, n, iparam, ipntr, workd, workl,
+        dsaupd_c(&ido, "I", n, which, 1, tol, resid, ncv, v, n, iparam, ipntr, workd, workl,
                  lworkl, &info);
         if (ido != 1 && ido != -1) break;
-        op(c, workd + ipntr[0] - 1, workd + ipntr[1] - 1);
-        if (c->failed) goto done;
+        if (op(c, workd + ipntr[0] - 1, workd + ipntr[1] - 1)) goto done;
     }
     *nops = iparam[8];
     if (info < 0) goto done;
@@ -62,7 +63,7 @@ static int largest(int n, void (*op)(op_ctx *, double *, double *), op_ctx *c, d
         rc = 0;
         goto done;
     }
-    dseupd_c(0, "A", select, d, v, n, 0.0, "I", n, "LA", 1, tol, resid, ncv, v, n, iparam, ipntr,
+    dseupd_c(0, "A", select, d, v, n, 0.0, "I", n, which, 1, tol, resid, ncv, v, n, iparam, ipntr,
              workd, workl, lworkl, &info);
     if (info != 0) goto done;
     *theta = d[0];
@@ -109,10 +110,10 @@ int aug_cond_estimate(cholmod_sparse *K, cholmod_factor *L, double tol, aug_cond
         r->cond = r->lambda_max / r->lambda_min;
         return 0;
     }
-    op_ctx c = {K, L, cm, NULL, NULL, NULL, 0};
+    op_ctx c = {K, L, cm, NULL, NULL, NULL};
     double tmax = 0, tinv = 0;
-    int ok1 = largest(n, op_K, &c, tol, 3000, &tmax, &r->iters_max);
-    int ok2 = ok1 < 0 ? -1 : largest(n, op_Kinv, &c, tol, 3000, &tinv, &r->iters_min);
+    int ok1 = aug_lanczos_extreme(n, op_K, &c, "LA", tol, 3000, &tmax, &r->iters_max);
+    int ok2 = ok1 < 0 ? -1 : aug_lanczos_extreme(n, op_Kinv, &c, "LA", tol, 3000, &tinv, &r->iters_min);
     cholmod_free_dense(&c.X, cm);
     cholmod_free_dense(&c.Y, cm);
     cholmod_free_dense(&c.E, cm);

@@ -1,5 +1,5 @@
-/* Baseline: Jacobi-preconditioned conjugate gradients on the cut matrix
-   ([Saad] ch. 9; Hestenes-Stiefel). */
+/* Baseline: preconditioned conjugate gradients on the cut matrix ([Saad]
+   ch. 9; Hestenes-Stiefel): no, Jacobi or IC(0) preconditioner. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,23 +27,46 @@ static void symv_upper(const cholmod_sparse *K, const double *x, double *y)
     }
 }
 
-/* x := PCG on K x = f from the given x ([Saad] ch. 9), M = diag(K) (1 where
-   K(j,j) <= 0): iterates while the recursive ||r|| > tol ||f|| (||f|| := 1 when
-   f = 0), restarting from the true residual when it has drifted (at most 5
-   passes); breakdown when p'Kp <= 0. relres = true ||f - K x|| / ||f||; converged:
-   no breakdown and relres <= tol. Returns the iterations of all passes, -1 memory. */
-int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int maxit,
-            int *converged, int *breakdown, double *relres, cholmod_common *cm)
+/* z = M^-1 r: M = I (R and dinv NULL), diag (dinv) or R'R (R) */
+static void prec_apply(const aug_ichol *R, const double *dinv, const double *r, double *z, int64_t n)
+{
+    if (R) {
+        aug_ichol_apply(R, r, z);
+        return;
+    }
+    for (int64_t i = 0; i < n; i++) z[i] = dinv ? dinv[i] * r[i] : r[i];
+}
+
+/* x := PCG on K x = f from the given x ([Saad] ch. 9), M = I, diag(K) (1
+   where K(j,j) <= 0) or the IC(0) R'R of K (ichol.c; its shift in *shift):
+   iterates while the recursive ||r|| > tol ||f|| (||f|| := 1 when f = 0),
+   restarting from the true residual when it has drifted (at most 5 passes);
+   breakdown when p'Kp <= 0. relres = true ||f - K x|| / ||f||; converged: no
+   breakdown and relres <= tol. Returns the iterations of all passes, -1
+   memory or no IC(0). */
+int aug_pcg_prec(const cholmod_sparse *K, const double *f, double *x, int prec, double tol,
+                 int maxit, int *converged, int *breakdown, double *relres, double *shift,
+                 cholmod_common *cm)
 {
     (void)cm;
     int64_t n = (int64_t)K->ncol;
     double *w = aug_malloc((size_t)(5 * n + 1) * sizeof *w);
+    aug_ichol ic, *R = NULL;
     *converged = 0, *breakdown = 0, *relres = NAN;
+    if (shift) *shift = 0;
     if (!w) return -1;
-    double *r = w, *z = w + n, *p = w + 2 * n, *q = w + 3 * n, *dinv = w + 4 * n;
+    double *r = w, *z = w + n, *p = w + 2 * n, *q = w + 3 * n, *dinv = prec == AUG_PCG_JACOBI ? w + 4 * n : NULL;
+    if (prec == AUG_PCG_IC) {
+        if (aug_ichol_factor(K, &ic)) {
+            free(w);
+            return -1;
+        }
+        R = &ic;
+        if (shift) *shift = ic.shift;
+    }
     const int *Kp = K->p, *Ki = K->i;
     const double *Kx = K->x;
-    for (int64_t j = 0; j < n; j++) {
+    for (int64_t j = 0; dinv && j < n; j++) {
         dinv[j] = 1;
         for (int k = Kp[j]; k < Kp[j + 1]; k++)
             if (Ki[k] == j && Kx[k] > 0) dinv[j] = 1 / Kx[k];
@@ -55,9 +78,9 @@ int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int
     for (int restart = 0; restart < 5; restart++) {
     symv_upper(K, x, q);
     double rr = 0, rz = 0;
+    for (int64_t i = 0; i < n; i++) r[i] = f[i] - q[i];
+    prec_apply(R, dinv, r, z, n);
     for (int64_t i = 0; i < n; i++) {
-        r[i] = f[i] - q[i];
-        z[i] = dinv[i] * r[i];
         p[i] = z[i];
         rr += r[i] * r[i], rz += r[i] * z[i];
     }
@@ -74,9 +97,10 @@ int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int
         for (int64_t i = 0; i < n; i++) {
             x[i] += alpha * p[i];
             r[i] -= alpha * q[i];
-            z[i] = dinv[i] * r[i];
-            rz1 += r[i] * z[i], rr += r[i] * r[i];
+            rr += r[i] * r[i];
         }
+        prec_apply(R, dinv, r, z, n);
+        for (int64_t i = 0; i < n; i++) rz1 += r[i] * z[i];
         double beta = rz1 / rz;
         rz = rz1;
         for (int64_t i = 0; i < n; i++) p[i] = z[i] + beta * p[i];
@@ -94,6 +118,14 @@ int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int
     for (int64_t i = 0; i < n; i++) tr += (f[i] - q[i]) * (f[i] - q[i]);
     *relres = sqrt(tr) / fn;
     *converged = !*breakdown && *relres <= tol * 1.0000001 + 1e-300;
+    if (R) aug_ichol_free(R);
     free(w);
     return it;
+}
+
+/* x := Jacobi PCG on K x = f (aug_pcg_prec with M = diag(K)) */
+int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int maxit,
+            int *converged, int *breakdown, double *relres, cholmod_common *cm)
+{
+    return aug_pcg_prec(K, f, x, AUG_PCG_JACOBI, tol, maxit, converged, breakdown, relres, NULL, cm);
 }

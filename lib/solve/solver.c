@@ -5,7 +5,8 @@
 #include <string.h>
 #include "aug_solve.h"
 
-const char *const aug_method_names[AUG_M_COUNT] = {"amps", "gmres", "refactor", "rowupdate", "pcg"};
+const char *const aug_method_names[AUG_M_COUNT] = {"amps", "gmres", "refactor", "rowupdate", "pcg",
+                                                   "cgm-cov", "cgm-es", "cgm-log", "cgm-as"};
 
 int aug_parse_methods(const char *s, int order[AUG_M_COUNT])
 {
@@ -47,6 +48,8 @@ void aug_solver_opts_default(aug_solver_opts *o)
     o->fail_tol = 1e-6;
     o->amps_target = 1e-12;
     o->nthreads = 1;
+    aug_cgm_opts_default(&o->cgm);
+    o->pcg_prec = AUG_PCG_JACOBI;
 }
 
 struct aug_solver {
@@ -74,6 +77,8 @@ struct aug_solver {
     cholmod_sparse *pcg_K;
     aug_refactor chk, amps_fb;
     int chk_ok, amps_fb_ok, prepped;
+    aug_cgm_res cgm[AUG_CGM_COUNT]; /* the cgm-* methods' figures of the step */
+    double pcg_shift;               /* pcg --pcg-prec ic: the IC(0) shift used */
 };
 
 aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
@@ -94,6 +99,13 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     s->amps.memo.use_cholmod = o->reach_cholmod;
     s->amps.schur.want_rcond = o->check; /* a diagnostic: O(na^2) per step */
     for (int i = 0; i < o->nmeth; i++) s->use[o->order[i]] = 1;
+    for (int m = AUG_M_CGM_COV; m <= AUG_M_CGM_AS; m++)
+        if (s->use[m] && o->dynamic) {
+            cholmod_free_factor(&L0, cm);
+            aug_err_set(e, AUG_EUSAGE, -1, "FACT", "%s solves static steps only, not a dynamic stream",
+                        aug_method_names[m]);
+            goto fail;
+        }
     if ((int64_t)L0->n != (int64_t)K0->nrow) {
         cholmod_free_factor(&L0, cm);
         aug_err_set(e, AUG_EDATA, -1, "FACT", "factor order %lld differs from KMAT order %lld",
@@ -425,8 +437,10 @@ static int pcg_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
     for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0;
     s->pcg_n = n;
     double rr;
-    r->iters = aug_pcg(K, s->f, xp, s->o.tol, s->o.maxit, &r->conv, &r->sing, &rr, s->cm);
+    r->iters = aug_pcg_prec(K, s->f, xp, s->o.pcg_prec, s->o.tol, s->o.maxit, &r->conv, &r->sing, &rr,
+                            &s->pcg_shift, s->cm);
     cholmod_free_sparse(&K, s->cm);
+    if (r->iters < 0) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "pcg: out of memory or no IC(0)");
     memcpy(r->x, xp, (size_t)n * sizeof *r->x);
     r->t[0] = tb - ta, r->t[1] = 1e3 * aug_now() - tb;
     return 0;
@@ -447,8 +461,41 @@ static int pcg_prep(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 static void pcg_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
 {
     cut_size(s, st);
+    put(st, "prec", s->o.pcg_prec);
+    if (s->o.pcg_prec == AUG_PCG_IC) put(st, "ic_shift", s->pcg_shift);
     if (r->ran) put(tm, "assemble", r->t[0]), put(tm, "iter", r->t[1]);
 }
+
+/* the thesis 003 sec. 3.5 transforms (cgm_solve.c): T of K_t assembled, CG on
+   T x = f_t from 0; x is the step's field, whatever it solves */
+static int cgm_step(aug_solver *s, int v, step_res *r, aug_err *e)
+{
+    double ta = 1e3 * aug_now();
+    cholmod_sparse *K = aug_cutmat_sparse(&s->cut, 0, s->cm);
+    if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    r->t[0] = 1e3 * aug_now() - ta;
+    int rc = aug_cgm_solve(v, K, s->f, &s->o.cgm, s->o.tol, s->o.maxit, r->x, &s->cgm[v], s->cm, e);
+    cholmod_free_sparse(&K, s->cm);
+    r->iters = s->cgm[v].iters, r->conv = s->cgm[v].converged;
+    return rc;
+}
+
+static void cgm_stats(const aug_solver *s, int v, const step_res *r, aug_kv *st, aug_kv *tm)
+{
+    cut_size(s, st);
+    if (!r->ran) return;
+    put(tm, "assemble", r->t[0]);
+    aug_cgm_put(v, &s->cgm[v], &s->o.cgm, st, tm);
+}
+
+static int cov_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e) { (void)q; return cgm_step(s, AUG_CGM_COV, r, e); }
+static int es_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e) { (void)q; return cgm_step(s, AUG_CGM_ES, r, e); }
+static int log_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e) { (void)q; return cgm_step(s, AUG_CGM_LOG, r, e); }
+static int as_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e) { (void)q; return cgm_step(s, AUG_CGM_AS, r, e); }
+static void cov_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm) { cgm_stats(s, AUG_CGM_COV, r, st, tm); }
+static void es_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm) { cgm_stats(s, AUG_CGM_ES, r, st, tm); }
+static void log_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm) { cgm_stats(s, AUG_CGM_LOG, r, st, tm); }
+static void as_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm) { cgm_stats(s, AUG_CGM_AS, r, st, tm); }
 
 static const method methods[AUG_M_COUNT] = {
     [AUG_M_AMPS] = {amps_step, amps_solve, amps_stats, M_DIRECT | M_BASED | M_TARGET, amps_prep},
@@ -456,6 +503,10 @@ static const method methods[AUG_M_COUNT] = {
     [AUG_M_REFACTOR] = {refactor_step, refactor_solve, refactor_stats, M_DIRECT, NULL},
     [AUG_M_ROWUPDATE] = {rowupdate_step, rowupdate_solve, rowupdate_stats, M_DIRECT, NULL},
     [AUG_M_PCG] = {pcg_step, NULL, pcg_stats, 0, pcg_prep},
+    [AUG_M_CGM_COV] = {cov_step, NULL, cov_stats, 0, NULL},
+    [AUG_M_CGM_ES] = {es_step, NULL, es_stats, 0, NULL},
+    [AUG_M_CGM_LOG] = {log_step, NULL, log_stats, 0, NULL},
+    [AUG_M_CGM_AS] = {as_step, NULL, as_stats, 0, NULL},
 };
 
 /* ---- one step of the session ---- */
@@ -748,7 +799,9 @@ static int frame_method(aug_solver *s, int m, const double *b, int32_t frame, au
         s->pcg_x = xp;
         for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0;
         s->pcg_n = n;
-        iters = aug_pcg(s->pcg_K, b, xp, s->o.tol, s->o.maxit, &conv, &sing, &rr, s->cm);
+        iters = aug_pcg_prec(s->pcg_K, b, xp, s->o.pcg_prec, s->o.tol, s->o.maxit, &conv, &sing, &rr,
+                             &s->pcg_shift, s->cm);
+        if (iters < 0) return aug_err_set(e, AUG_ENOMEM, -1, "fRAM", "pcg: out of memory or no IC(0)");
         memcpy(x, xp, (size_t)n * sizeof *x);
     } else if (!sing) {
         if ((rc = op->solve(s, b, x, e))) return rc;
