@@ -67,7 +67,8 @@ static void rigid_row(int dim, const double *y, int k, double *row)
    nonsingular: its eigenvalues (LAPACK dsyev) all above 1e-9 lambda_max(G),
    with coordinates centred and scaled per component. The first component that
    is not held is reported (AUG_ESINGULAR) with its size, smallest node and the
-   material of its first element; so is a node in no element with a free DOF. */
+   material of its first element; so is a node in no element with a free DOF.
+   mem3 then also passes aug_membrane_support (a flat sheet's normals). */
 int aug_check_support(const aug_mesh *m, aug_err *e)
 {
     aug_err_clear(e);
@@ -159,5 +160,5 @@ done:
     free(acc);
     free(first_el);
     free(size);
-    return e->code;
+    return e->code ? e->code : aug_membrane_support(m, e);
 }

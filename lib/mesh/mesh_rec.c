@@ -1,6 +1,7 @@
 /* Mesh-family codecs (formats/stream.md 5): NODE MATL ELEM nSEt FIXD LOAD oUTs,
    read by absorbing into an aug_mesh (which checks them against the records
    before), written from one, checked on their own and dumped. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -110,10 +111,17 @@ static int absorb_elem(aug_mesh *m, const aug_rec *rec, aug_err *e)
                             (long long)i, sj, corner);
             continue;
         }
-        double v = aug_elem_measure(m, i);
-        if (!(v > 0))
+        double v = aug_elem_measure(m, i), lim = 0;
+        if (et == AUG_MEM3) { /* |cross| / 2 is never negative: degenerate below 64 eps l^2 */
+            for (int a = 0; a < 3; a++) {
+                const double *p = m->x + (size_t)m->conn[i * 3 + a] * 3,
+                             *q = m->x + (size_t)m->conn[i * 3 + (a + 1) % 3] * 3;
+                lim = fmax(lim, 64 * DBL_EPSILON * (pow(p[0] - q[0], 2) + pow(p[1] - q[1], 2) + pow(p[2] - q[2], 2)));
+            }
+        }
+        if (!(v > lim))
             return DATA("element %lld is inverted or degenerate (%s %.6g)", (long long)i,
-                        m->dim == 3 ? "volume" : "area", v);
+                        m->nv == 4 ? "volume" : "area", v);
     }
     return 0;
 }
