@@ -25,6 +25,7 @@ typedef struct aug_material {
     int32_t id;               /* gmsh physical tag (or user id) */
     char name[AUG_NAME];
     double E, nu, rho, t;     /* Young's modulus, Poisson ratio, density, thickness (2-D) */
+    double kf;                /* mem3: Winkler foundation modulus (FNDN; 0: none) */
 } aug_material;
 
 typedef struct aug_set {
@@ -64,7 +65,7 @@ typedef struct aug_mesh {
 } aug_mesh;
 
 enum { AUG_HAVE_NODE = 1, AUG_HAVE_ELEM = 2, AUG_HAVE_MATL = 4, AUG_HAVE_FIXD = 8,
-       AUG_HAVE_LOAD = 16, AUG_HAVE_OUTS = 32, AUG_HAVE_GRAV = 64 };
+       AUG_HAVE_LOAD = 16, AUG_HAVE_OUTS = 32, AUG_HAVE_GRAV = 64, AUG_HAVE_FNDN = 128 };
 
 void aug_mesh_init(aug_mesh *m);
 void aug_mesh_free(aug_mesh *m);

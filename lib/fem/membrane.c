@@ -40,12 +40,18 @@ double aug_membrane_grad(const aug_mesh *m, int64_t e, double g[9], double nrm[3
    strain of u vanishes exactly for the 2 in-plane translations, the in-plane
    rotation and the 3 out-of-plane motions w = linear (which are the normal
    translation and the 2 tilts), 9 - 3 strains = 6 ([Zienkiewicz] vol. 1
-   ch. 4 and 11: a flat shell facet without its bending part). */
+   ch. 4 and 11: a flat shell facet without its bending part).
+   With a Winkler foundation of modulus k (FNDN: force per unit area and unit
+   normal displacement, the tissue under a skin) it adds
+   k int N_a N_b dA n_i n_j = k A (1 + delta_ab) / 12 n_i n_j, the energy
+   k/2 int (u.n)^2 dA ([Zienkiewicz] vol. 2, beams and plates on elastic
+   foundations; Hetenyi 1946): the 3 out-of-plane modes are then held and
+   3 in-plane ones remain. */
 void aug_membrane_stiffness(const aug_mesh *m, int64_t e, double *Ke)
 {
     const aug_material *mat = &m->mats[m->mat[e]];
     double E = mat->E, nu = mat->nu, mu = E / (2 * (1 + nu)), lam = E * nu / (1 - nu * nu);
-    double g[9], n[3], w = mat->t * aug_membrane_grad(m, e, g, n) / 2.0;
+    double g[9], n[3], A = aug_membrane_grad(m, e, g, n) / 2.0, w = mat->t * A, kf = mat->kf * A;
     memset(Ke, 0, sizeof(double) * 81);
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++) {
@@ -55,7 +61,8 @@ void aug_membrane_stiffness(const aug_mesh *m, int64_t e, double *Ke)
                 for (int j = 0; j < 3; j++) {
                     double P = (i == j) - n[i] * n[j];
                     Ke[(size_t)(b * 3 + j) * 9 + (a * 3 + i)] =
-                        w * (lam * ga[i] * gb[j] + mu * ga[j] * gb[i] + mu * P * gg);
+                        w * (lam * ga[i] * gb[j] + mu * ga[j] * gb[i] + mu * P * gg) +
+                        kf * (1.0 + (a == b)) / 12.0 * n[i] * n[j];
                 }
         }
 }

@@ -28,7 +28,7 @@ int aug_membrane_support(const aug_mesh *m, aug_err *e)
     for (int64_t t = 0; t < m->nfix; t++) fixed[m->fix_dof[t]] = 1;
     double Ke[81];
     for (int64_t el = 0; el < m->ne; el++) {
-        aug_membrane_stiffness(m, el, Ke);
+        aug_elem_stiffness(m, el, Ke); /* the foundation's part included */
         for (int a = 0; a < 3; a++) {
             double *b = B + (size_t)m->conn[el * 3 + a] * 9;
             for (int i = 0; i < 3; i++)
