@@ -2,7 +2,8 @@
    triangle rotated, the patch test on a flat sheet in an arbitrary orientation,
    the zero-stiffness modes of single triangles, flat, curved and closed sheets
    against the rank of the bar framework of their edges, mass totals, and the
-   singular-scene checks, and the mesh records of a mem3 mesh. */
+   singular-scene checks, the mesh records of a mem3 mesh, and the Winkler
+   foundation (FNDN). */
 #include <lapacke.h>
 #include "t.h"
 #include "fem_mesh.h"
@@ -435,6 +436,63 @@ static void test_mesh_record(void)
     aug_mesh_free(&m2);
 }
 
+/* a Winkler foundation k (FNDN): the element's zero modes drop to the 3
+   in-plane rigid ones, and so do a flat sheet's (3 + nn without); the
+   foundation part is k A (1 + delta_ab) / 12 n n' (the difference of the
+   matrices with and without, against n from the corners); the FNDN record
+   round-trips, and a negative k or a foundation on tri3 is refused */
+static void test_foundation(void)
+{
+    double Q[3][3];
+    rotation(0.8, -0.3, 0.4, Q);
+    aug_mesh m2, m, r;
+    tm_rect(&m2, 3, 3, 1.0, 1.0, 70.0, 0.33, 0.2);
+    distort2(&m2, 0.2, 0.3);
+    lift(&m, &m2, Q, origin, NULL);
+    const double k = 3.5;
+    double K0[81], K1[81];
+    for (int64_t e = 0; e < m.ne; e++) {
+        m.mats[0].kf = 0;
+        aug_elem_stiffness(&m, e, K0);
+        m.mats[0].kf = k;
+        aug_elem_stiffness(&m, e, K1);
+        T_CHECK(zero_count(9, K1, 1e-10, NULL) == 3, "triangle %lld on a foundation: %d zero modes", (long long)e,
+                zero_count(9, K1, 1e-10, NULL));
+        const int32_t *c = m.conn + e * 3;
+        double a[3], b[3], n[3];
+        for (int q = 0; q < 3; q++) a[q] = m.x[c[1] * 3 + q] - m.x[c[0] * 3 + q], b[q] = m.x[c[2] * 3 + q] - m.x[c[0] * 3 + q];
+        n[0] = a[1] * b[2] - a[2] * b[1], n[1] = a[2] * b[0] - a[0] * b[2], n[2] = a[0] * b[1] - a[1] * b[0];
+        double A = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), err = 0;
+        for (int q = 0; q < 3; q++) n[q] /= 2 * A;
+        for (int i = 0; i < 9; i++)
+            for (int j = 0; j < 9; j++) {
+                double want = k * A * (1.0 + (i / 3 == j / 3)) / 12 * n[i % 3] * n[j % 3];
+                err = fmax(err, fabs(K1[j * 9 + i] - K0[j * 9 + i] - want));
+            }
+        T_CHECK(err <= 1e-13 * k, "triangle %lld: foundation part off by %g", (long long)e, err);
+    }
+    double *K = dense_K(&m);
+    int z = zero_count((int)m.nn * 3, K, 1e-10, NULL);
+    T_CHECK(z == 3, "flat sheet on a foundation: %d zero modes, want 3", z);
+    free(K);
+    m.have |= AUG_HAVE_FNDN;
+    aug_err e;
+    int rc = record_trip(&m, &r, &e);
+    T_CHECK(rc == 0 && (r.have & AUG_HAVE_FNDN) && r.mats[0].kf == k, "FNDN round trip: rc %d (%s)", rc, e.msg);
+    aug_mesh_free(&r);
+    m.mats[0].kf = -1;
+    rc = record_trip(&m, &r, &e);
+    T_CHECK(rc == AUG_EDATA && !strcmp(e.type, "FNDN"), "negative k: rc %d %s %s", rc, e.type, e.msg);
+    aug_mesh_free(&r);
+    m2.mats[0].kf = 1, m2.have |= AUG_HAVE_FNDN;
+    rc = record_trip(&m2, &r, &e);
+    T_CHECK(rc == AUG_EDATA && !strcmp(e.type, "FNDN") && strstr(e.msg, "membrane"), "FNDN on tri3: rc %d %s %s",
+            rc, e.type, e.msg);
+    aug_mesh_free(&r);
+    aug_mesh_free(&m);
+    aug_mesh_free(&m2);
+}
+
 int main(void)
 {
     aug_cholmod_start(&cm);
@@ -444,6 +502,7 @@ int main(void)
     T_RUN(test_mass_totals);
     T_RUN(test_support_checks);
     T_RUN(test_mesh_record);
+    T_RUN(test_foundation);
     cholmod_finish(&cm);
     T_EXIT();
 }
