@@ -359,7 +359,7 @@ int aug_edgemap_link(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
 /* Remove v from the slots of {a, b}; deletes the entry when both are free. */
 void aug_edgemap_unlink(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
 
-/* Split mode surgery on tri3 meshes: insert a node on edge (a, b) at parameter
+/* Split mode surgery on tri3 (and mem3: aug_split_edge) meshes: insert a node on edge (a, b) at parameter
    s (0 < s < 1) splitting both triangles that share the edge, or inside
    triangle t at barycentric l. Cut edges through the split edge follow it. */
 int32_t aug_split_edge(aug_edit *ed, aug_edgemap *cut, int32_t a, int32_t b, double s,

@@ -23,7 +23,8 @@ int32_t aug_split_edge(aug_edit *ed, aug_edgemap *cut, int32_t a, int32_t b, dou
 {
     aug_err_clear(e);
     const double *xa = aug_edit_x(ed, a), *xb = aug_edit_x(ed, b);
-    double x[2] = {(1 - s) * xa[0] + s * xb[0], (1 - s) * xa[1] + s * xb[1]};
+    double x[3];
+    for (int c = 0; c < ed->m->dim; c++) x[c] = (1 - s) * xa[c] + s * xb[c]; /* tri3, mem3 */
     /* the new node inherits the constraints of the less constrained end (nearer on ties) */
     int fa = nfixed(ed, a), fb = nfixed(ed, b);
     int32_t parent = fa < fb ? a : (fb < fa ? b : (s <= 0.5 ? a : b));

@@ -59,6 +59,14 @@ int aug_refiner_init(aug_refiner *r, const aug_mesh *m, const aug_refine_opt *o,
     memset(r, 0, sizeof *r);
     if (o) r->opt = *o;
     else aug_refine_opt_default(&r->opt);
+    if (m->etype == AUG_MEM3) { /* aug_refine_step_mem3: the cut view, the base, the maps */
+        if (aug_mesh_copy(&r->cut, m) || aug_mesh_copy(&r->base, m) || aug_refine_mem3_init(r)) goto nomem;
+        r->nn0 = m->nn;
+        r->map0 = aug_malloc((size_t)(m->nn * m->dim + 1) * sizeof *r->map0);
+        if (!r->map0) goto nomem;
+        r->nfree0 = aug_dofmap(m, r->map0);
+        return 0;
+    }
     if (!((m->dim == 2 && m->nv == 3) || (m->dim == 3 && m->nv == 4)))
         return aug_err_set(e, AUG_EDATA, -1, "ELEM", "refine needs tri3 or tet4 elements (a %s mesh is not refined)",
                            aug_etype_name(m->etype));
@@ -101,6 +109,7 @@ void aug_refiner_free(aug_refiner *r)
     free(r->carea0);
     free(r->cel);
     free(r->cnode);
+    free(r->own);
     free(r->map0);
     memset(r, 0, sizeof *r);
 }

@@ -6,7 +6,7 @@ MDLT records. Every new node lies on the original sheet: its screen point
 (u.x, v.x) falls in an original triangle whose barycentric lift equals the
 node to 1e-12 of the extent; it is a copy of its parent or on the path (to
 1e-9, or SNAPTOL of the longest screen edge: split mode moves a point that
-near an edge onto it); the sheet's area is unchanged (1e-12 relative); pATH points are on the
+near an edge onto it; not checked without path points, as after refine); the sheet's area is unchanged (1e-12 relative); pATH points are on the
 sheet too; every triangle is valid (area > 0)."""
 import math
 import struct
@@ -85,6 +85,8 @@ def main():
         if inside < -1e-9 or err > 1e-12 * ext:
             fail("new node %d at %s is not on the sheet (lift %s, inside %.3g)" % (nn0 + j, x, y, inside))
         par = cm.x[parents[j]]
+        if len(pts) < 2:
+            continue  # no path given (a refined stream): the sheet alone
         on_path = min(seg_dist(q, pts[i], pts[i + 1]) for i in range(len(pts) - 1))
         if max(abs(a - b) for a, b in zip(x, par)) > 0 and on_path > 1e-9 + snap * hmax:
             fail("new node %d is neither a copy of node %d nor on the path (%.3g off)" % (nn0 + j, parents[j], on_path))
