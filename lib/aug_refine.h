@@ -196,6 +196,8 @@ int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const struct aug_bdelta
    nodes keep their numbers (bc copied), refinement by longest-edge bisection
    and coplanar flips in each triangle's plane; seg is not needed (the cut's
    lips are boundary edges, never split). */
+/* a[0..need) available (new entries -1): 0 or -1 (memory) */
+int aug_refine_grow_i32(int32_t **a, int64_t *cap, int64_t need);
 int aug_refine_mem3_init(aug_refiner *r);
 int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const struct aug_bdelta *bc, aug_mdelta *out,
                          struct aug_bdelta *outbc, aug_update *u, aug_refine_q *q, aug_err *e);

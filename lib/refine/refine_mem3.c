@@ -138,26 +138,12 @@ static int legalize_star(aug_edit *ed, int32_t r, int64_t *flips)
     return 0;
 }
 
-/* a[0..need) available, new entries -1 */
-static int grow(int32_t **a, int64_t *cap, int64_t need)
-{
-    if (need <= *cap) return 0;
-    int64_t c = *cap ? *cap : 1024;
-    while (c < need) c *= 2;
-    int32_t *q = aug_realloc(*a, (size_t)c * sizeof *q);
-    if (!q) return -1;
-    for (int64_t i = *cap; i < c; i++) q[i] = -1;
-    *a = q;
-    *cap = c;
-    return 0;
-}
-
 /* the maps of the intact mesh: cut-view node and element i are base i */
 int aug_refine_mem3_init(aug_refiner *r)
 {
     const aug_mesh *m = &r->base;
-    if (grow(&r->cnode, &r->capc, m->nn + 1) || grow(&r->cel, &r->capce, m->ne + 1) ||
-        grow(&r->own, &r->capown, m->ne + 1))
+    if (aug_refine_grow_i32(&r->cnode, &r->capc, m->nn + 1) || aug_refine_grow_i32(&r->cel, &r->capce, m->ne + 1) ||
+        aug_refine_grow_i32(&r->own, &r->capown, m->ne + 1))
         return -1;
     for (int64_t i = 0; i < m->nn; i++) r->cnode[i] = (int32_t)i;
     for (int64_t t = 0; t < m->ne; t++) r->cel[t] = r->own[t] = (int32_t)t;
@@ -193,7 +179,7 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
     aug_edit_init(&ed, B, &adj);
     aug_mesh *C = &r->cut;
     int64_t nnc = C->nn, nec = C->ne;
-    if (grow(&r->cnode, &r->capc, nnc + d->nnew + 1) || grow(&r->cel, &r->capce, nec + d->nadd + 1)) goto nomem;
+    if (aug_refine_grow_i32(&r->cnode, &r->capc, nnc + d->nnew + 1) || aug_refine_grow_i32(&r->cel, &r->capce, nec + d->nadd + 1)) goto nomem;
     for (int64_t i = 0; i < d->nmod; i++)
         if (d->elem[i] < 0 || d->elem[i] >= nec || r->cel[d->elem[i]] < 0) {
             rc = aug_err_set(e, AUG_EDATA, -1, "MDLT",
@@ -230,7 +216,7 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
             if (aug_edit_set(&ed, r->cel[d->elem[i]], mc)) goto nomem;
         } else {
             int64_t b = aug_edit_elem(&ed, mc, d->mat_add[i - d->nmod]);
-            if (b < 0 || grow(&r->own, &r->capown, b + 1)) goto nomem;
+            if (b < 0 || aug_refine_grow_i32(&r->own, &r->capown, b + 1)) goto nomem;
             r->cel[nec + i - d->nmod] = (int32_t)b;
             r->own[b] = (int32_t)(nec + i - d->nmod);
         }
@@ -294,7 +280,7 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
     /* a cut-view triangle whose base triangle refinement changed is no longer mapped */
     for (int64_t i = 0; i < ed.nmod + ed.nadd; i++) {
         int64_t b = i < ed.nmod ? ed.mod_elem[i] : ed.ne0 + (i - ed.nmod);
-        if (grow(&r->own, &r->capown, b + 1)) goto nomem;
+        if (aug_refine_grow_i32(&r->own, &r->capown, b + 1)) goto nomem;
         int32_t c = r->own[b];
         if (c < 0) continue;
         const int32_t *cb = aug_edit_conn(&ed, b), *cc = C->conn + (int64_t)c * 3;
