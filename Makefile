@@ -114,7 +114,7 @@ SCENES := $(B)/scenes/beam_h4.msh $(B)/scenes/beam_h16.msh $(B)/scenes/beam_h64.
           $(B)/scenes/brick_n4.msh $(B)/scenes/brick_n8.msh $(B)/scenes/square.msh \
           $(B)/scenes/plank.msh $(B)/scenes/cube.msh $(B)/scenes/hexbrick_n2.msh \
           $(B)/scenes/hexbrick_n4.msh $(B)/scenes/cube_n4.msh $(B)/scenes/cube_n8.msh \
-          $(B)/scenes/steak.msh
+          $(B)/scenes/steak.msh $(B)/scenes/dome.msh
 $(B)/scenes/beam_h%.msh: scenes/beam.geo
 	@mkdir -p $(dir $@)
 	gmsh -3 -setnumber h $* -format msh41 -v 0 -o $@ $< >/dev/null
@@ -139,6 +139,9 @@ $(B)/scenes/cube_n%.msh: scenes/cube.geo
 $(B)/scenes/hexbrick_n%.msh: scenes/hexbrick.geo
 	@mkdir -p $(dir $@)
 	gmsh -3 -setnumber N $* -format msh41 -v 0 -o $@ $< >/dev/null
+$(B)/scenes/dome.msh: scenes/dome.geo
+	@mkdir -p $(dir $@)
+	gmsh -2 -format msh41 -v 0 -o $@ $< >/dev/null
 scenes: $(SCENES)
 
 check: deps

@@ -13,7 +13,7 @@
 
 static const char *synopsis =
     "cut [FILE] [--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--polygon PTS] [--per-step K] [--seed S]\n"
-    "           | --path PFILE [--mode split|snap] [--snap-tol T] [--chords]\n"
+    "           | --path PFILE [--mode split|snap] [--snap-tol T] [--chords] [--view U,V]\n"
     "           | --blade BFILE | --surface SFILE [--advance dx,dy,dz] [--mode snap|split] [--snap-tol T]]\n"
     "           --steps N [--pull F] [--detached error|pin|drop|keep]\n"
     "           [--constrain SET|box:LO,HI[=u,v[,w]][@S]]... [--drag SET|box:LO,HI:dx,dy[,dz]]...\n"
@@ -38,6 +38,8 @@ static const char *help =
     "                       blade and surface: --mode snap (default) or split (tet4)\n"
     "  --snap-tol T         split mode: snap to a node within T of an edge (default 0.05;\n"
     "                       --blade and --surface: 0.2)\n"
+    "  --view ux,uy,uz,vx,vy,vz  membrane (mem3) sheet: the path is in screen coordinates\n"
+    "                       (u.x, v.x) and is projected onto the sheet along u x v\n"
     "  --chords             split mode: no vertex at the curvature maximum inside an\n"
     "                       element, chords between the crossings only (thesis fig. 3.5)\n"
     "  --steps N            number of cut steps (N >= 1)\n"
@@ -61,7 +63,8 @@ typedef struct options {
     aug_cutsurf surf;          /* --blade or --surface */
     int npoly;                 /* --polygon vertices (3-D points) */
     double poly[3 * 64];
-    double n[4], adv[3], pull, snap_tol;
+    double n[4], adv[3], pull, snap_tol, view[6];
+    int have_view;
     long steps, per_step, seed;
     aug_path path;
     aug_constraint *con;
@@ -162,6 +165,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--stats", &o->stats)},
         {AUG_OPT_FLAG("--deflate", &o->deflate)},
         {AUG_OPT_FLAG("--chords", &o->chords)},
+        {AUG_OPT_REALS("--view", o->view, 6, "ux,uy,uz,vx,vy,vz"), .given = &o->have_view},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (!nsteps) aug_tool_usage(t, "--steps N is required");
@@ -173,6 +177,10 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     for (int i = 0; i < o->ncon; i++)
         if (o->steps >= 1 && o->con[i].step > o->steps)
             aug_tool_usage(t, "--constrain at step %ld after the last step %ld", o->con[i].step, o->steps);
+    aug_err ve;
+    if (o->have_view && !o->pathfile) aug_tool_usage(t, "--view needs --path");
+    if (o->have_view && o->pull != 0) aug_tool_usage(t, "--view takes no --pull");
+    if (o->have_view && aug_view_axes(o->view, &ve)) aug_tool_usage(t, "--view: %s", ve.msg);
     if (o->pathfile) {
         FILE *f = fopen(o->pathfile, "r");
         aug_err e;
@@ -210,12 +218,15 @@ int main(int argc, char **argv)
     if (!(m->have & AUG_HAVE_NODE) || !(m->have & AUG_HAVE_ELEM))
         aug_tool_die(&t, "%s: the stream has no mesh (NODE and ELEM records)", t.inname);
     aug_tool_check(&t, aug_replay_start(&rp, &e), &e);
-    if (o.pathfile && (m->dim != 2 || m->etype != AUG_TRI3))
-        aug_tool_die(&t, "%s: --path needs a 2-D triangle mesh", t.inname);
+    if (o.pathfile && !o.have_view && (m->dim != 2 || m->etype != AUG_TRI3))
+        aug_tool_die(&t, "%s: --path needs a 2-D triangle mesh (or a membrane and --view)", t.inname);
     const char *sopt = o.bladefile ? "--blade" : "--surface", *sfile = o.bladefile ? o.bladefile : o.surffile;
     if (sfile && m->dim != 3) aug_tool_die(&t, "%s: %s needs a 3-D mesh", t.inname, sopt);
     if (sfile && aug_cutsurf_meets(&o.surf, m) == 0)
         aug_tool_die(&t, "%s: %s %s misses the mesh (no part of it meets the mesh's box)", t.inname, sopt, sfile);
+    aug_view vw;
+    memset(&vw, 0, sizeof vw);
+    if (o.have_view) aug_tool_check(&t, aug_view_init(&vw, m, o.view, o.view + 3, &e), &e);
     aug_cutter c;
     aug_tool_check(&t, aug_cutter_init(&c, m, rp.nn0, rp.map0, rp.nfree0, &e), &e);
     c.policy = o.policy;
@@ -254,7 +265,8 @@ int main(int argc, char **argv)
             aug_tool_check(&t, aug_plane_step(&pc, &c.ed, per, &st.seg, &st.nseg, &e), &e);
         } else if (o.pathfile) {
             double s_to = o.path.total * (double)k / (double)o.steps;
-            aug_tool_check(&t, aug_path_step(&pp, &c.ed, s_to, &st.seg, &st.nseg, &e), &e);
+            aug_tool_check(&t, o.have_view ? aug_view_path_step(&vw, &pp, &c.ed, step, s_to, &st.seg, &st.nseg, &e)
+                                           : aug_path_step(&pp, &c.ed, s_to, &st.seg, &st.nseg, &e), &e);
         } else if (sfile) {
             aug_tool_check(&t, aug_cutsurf_step(&o.surf, k, o.steps, &e), &e);
             aug_tool_check(&t, aug_blade_cut_step(&bcut, &c.ed, &c.fn, o.surf.step.t, o.surf.step.n, &st.seg,
@@ -279,6 +291,7 @@ int main(int argc, char **argv)
     aug_tool_close(&t);
     aug_plane_free(&pc);
     aug_path_cut_free(&pp);
+    aug_view_free(&vw);
     aug_cutter_free(&c);
     aug_path_free(&o.path);
     free(o.con);

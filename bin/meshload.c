@@ -9,7 +9,7 @@ static const char *synopsis =
     "meshload FILE.msh [--fix GROUP|box:x0,y0,z0,x1,y1,z1|plane:nx,ny,nz,d[,tol]]...\n"
     "       [--material GROUP:E=..,nu=..,rho=..,t=..]... [--default-material E=..,nu=..,rho=..,t=..]\n"
     "       [--load GROUP:fx,fy,fz | --load point:x,y,z:fx,fy,fz]... [--gravity gx,gy,gz]\n"
-    "       [--output all|surface|GROUP] [--reorient] [--deflate] [-h]";
+    "       [--output all|surface|GROUP] [--membrane [--foundation K]] [--reorient] [--deflate] [-h]";
 
 static const char *help =
     "  --fix GROUP           fix every component (u = 0) of the nodes of a physical group or set\n"
@@ -24,6 +24,10 @@ static const char *help =
     "  --gravity gx,gy,gz    body force rho g on every element (its consistent nodal load,\n"
     "                        added to the --load forces); 2-D: gx,gy\n"
     "  --output all|surface|GROUP    the nodes whose displacement is wanted (default all)\n"
+    "  --membrane            a triangle mesh as a thin sheet in 3-D (mem3: plane stress in\n"
+    "                        each triangle's plane, 3 DOFs per node; it need not be plane)\n"
+    "  --foundation K        with --membrane: a Winkler foundation of modulus K under the\n"
+    "                        sheet (force per area and normal displacement; FNDN)\n"
     "  --reorient            flip inverted elements instead of refusing them\n"
     "  --deflate             zlib-deflate large payloads\n"
     "  -h                    this help; see meshload(1)\n";
@@ -32,7 +36,8 @@ typedef struct options {
     const char *file;
     aug_scene_spec spec;
     aug_sink sink;             /* the scene options' problems, as usage errors */
-    int reorient, deflate;
+    int reorient, deflate, membrane, have_kf;
+    double kf;
 } options;
 
 static void report(void *t, const char *msg)
@@ -64,9 +69,12 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_STRING("--output", &o->spec.output, "a value"), .bad = "empty set name",
          .flags = AUG_OPT_ONCE | AUG_OPT_NONEMPTY},
         {AUG_OPT_FLAG("--reorient", &o->reorient)},
+        {AUG_OPT_FLAG("--membrane", &o->membrane)},
+        {AUG_OPT_REAL("--foundation", &o->kf, 0, 1e300, "a modulus from 0 to 1e300"), .given = &o->have_kf},
         {AUG_OPT_FLAG("--deflate", &o->deflate)},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
+    if (o->have_kf && !o->membrane) aug_tool_usage(t, "--foundation needs --membrane");
     if (!o->file) aug_tool_usage(t, "no mesh file given");
     else if (!strcmp(o->file, "-")) aug_tool_usage(t, "cannot read a mesh from stdin: give a .msh file");
     /* the rest (groups, selections, 2-D/3-D) is checked against the mesh */
@@ -87,7 +95,14 @@ int main(int argc, char **argv)
     /* with usage errors already, the mesh is still read (if it can be) so that
        the options naming its groups are checked too, before exit 2 */
     int rc = aug_gmsh_read(o.file, &tg, &e);
+    if (!rc && o.membrane && tg.etype != AUG_TRI3) {
+        aug_tool_usage(&t, "--membrane: %s is a %s mesh, not a triangle (surface) mesh", o.file,
+                       aug_etype_name(tg.etype));
+        aug_gmsh_free(&tg);
+        aug_tool_usage_done(&t, synopsis);
+    }
     if (!rc) {
+        if (o.membrane) tg.etype = AUG_MEM3;
         rc = aug_import(&tg, o.reorient, &m, &e);
         aug_gmsh_free(&tg);
     }
@@ -96,6 +111,7 @@ int main(int argc, char **argv)
         aug_tool_fail(&t, &e);
     }
     aug_tool_check(&t, aug_scene_spec_apply(&o.spec, &m, &o.sink, &e), &e);
+    for (int i = 0; o.kf > 0 && i < m.nmat; i++) m.mats[i].kf = o.kf, m.have |= AUG_HAVE_FNDN;
     aug_tool_usage_done(&t, synopsis);
 
     aug_tool_open_out(&t);

@@ -19,6 +19,7 @@ static const char *help =
     "  --area-ratio R     refine only elements larger than R times their original (default 0)\n"
     "  --min-angle DEG    2-D: also refine triangles with a smaller angle (default 20;\n"
     "                     0: the thesis's aspect bound alone)\n"
+    "                     (mem3: only when given; the default is the aspect bound alone)\n"
     "  --no-flip          2-D: plain longest-edge bisection, no Delaunay flips\n"
     "  --max-aspect3 A    3-D bound on R / (3 r), 1 for the regular tet (default 3)\n"
     "  --min-dihedral DEG 3-D: also refine tets with a smaller dihedral angle (default 0)\n"
@@ -43,7 +44,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_REAL("--max-aspect", &r->max_aspect, 1.2, HUGE_VAL, "a number >= 1.2 (0: off)"),
          .flags = AUG_OPT_ZERO},
         {AUG_OPT_REAL("--area-ratio", &r->area_ratio, 0, 1, "a number in [0, 1)"), .flags = AUG_OPT_HI_OPEN},
-        {AUG_OPT_REAL("--min-angle", &r->min_angle, 0, 30, "degrees in [0, 30]")},
+        {AUG_OPT_REAL("--min-angle", &r->min_angle, 0, 30, "degrees in [0, 30]"), .given = &r->min_angle_given},
         {AUG_OPT_REAL("--max-aspect3", &r->max_aspect3, 1, HUGE_VAL, "a number >= 1 (0: off)"),
          .flags = AUG_OPT_ZERO},
         {AUG_OPT_REAL("--min-dihedral", &r->min_dihedral, 0, 70, "degrees in [0, 70)"),

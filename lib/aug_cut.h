@@ -359,7 +359,7 @@ int aug_edgemap_link(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
 /* Remove v from the slots of {a, b}; deletes the entry when both are free. */
 void aug_edgemap_unlink(aug_edgemap *h, int32_t a, int32_t b, int32_t v);
 
-/* Split mode surgery on tri3 and tet4 meshes: insert a node on edge (a, b) at parameter
+/* Split mode surgery on tri3, mem3 and tet4 meshes: insert a node on edge (a, b) at parameter
    s (0 < s < 1) splitting every simplex that shares the edge, or (tri3) inside
    triangle t at barycentric l. Cut edges through the split edge follow it. */
 int32_t aug_split_edge(aug_edit *ed, aug_edgemap *cut, int32_t a, int32_t b, double s,
@@ -604,5 +604,31 @@ void aug_blade_cut_free(aug_blade_cut *bc);
    before the step (the cutter's). */
 int aug_blade_cut_step(aug_blade_cut *bc, aug_edit *ed, const aug_facenbr *fn, const double *add,
                        int64_t nadd, double **seg, int64_t *nseg, aug_err *e);
+/* ---- Paths projected onto a membrane along a view (lib/cut/path_project.c) ----
+   Thesis 003 sec. 3.1.1: the sheet (mem3) seen through the orthographic view
+   with orthonormal screen axes u, v (toward the viewer w = u x v) is a 2-D
+   triangle mesh, its image; a path (screen coordinates (u.x, v.x)) is cut on
+   the image by aug_path_step and each edit is replayed on the sheet, new
+   nodes lifted back onto its triangles (the shape unchanged). A cut's lips
+   are free edges, which a membrane alone cannot hold out of its plane: the
+   cut scene needs a foundation (FNDN) or its K_t is singular. */
+typedef struct aug_view {
+    double u[3], v[3], w[3];
+    int flip;                    /* the sheet faces away: the image's triangles reversed */
+    aug_mesh img;                /* the image: tri3, x = (u.x, v.x) */
+    aug_adj adj;
+    aug_edit ed;
+} aug_view;
+/* The image of the mem3 mesh m; AUG_EDATA naming a triangle seen edge-on or
+   facing the other way (a folded sheet). */
+int aug_view_init(aug_view *vw, const aug_mesh *m, const double u[3], const double v[3], aug_err *e);
+void aug_view_free(aug_view *vw);
+/* view = (u, v) normalised; AUG_EUSAGE when zero, not finite or not orthogonal. */
+int aug_view_axes(double view[6], aug_err *e);
+/* aug_path_step on the image up to arc length s_to, replayed onto ed3 (the
+   cutter's edit of the sheet); *seg (empty on entry) gets the step's
+   segments as 3-D points. */
+int aug_view_path_step(aug_view *vw, aug_path_cut *pc, aug_edit *ed3, int32_t step, double s_to,
+                       double **seg, int64_t *nseg, aug_err *e);
 
 #endif

@@ -9,13 +9,19 @@
 #include "aug_mesh.h"
 
 /* Linear elastic element stiffness of element e (hex8 Q1 with 2x2x2 Gauss:
-   24x24, tet4: 12x12, tri3 plane stress with thickness t: 6x6; at most
+   24x24, tet4: 12x12, tri3 plane stress with thickness t: 6x6, mem3: 9x9; at most
    AUG_MAX_EMAT entries), column-major, local dof order node*dim+c. */
 void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke);
 /* Shape-function gradients of element e, g[a*dim+c] = dN_a/dx_c: tet4 and tri3
    the constant ones, hex8 at natural coordinates xi (NULL: the centre).
-   Returns det J (tet4: 6 V, tri3: 2 A, hex8: at xi). */
+   Returns det J (tet4: 6 V, tri3: 2 A, hex8: at xi); mem3: the surface
+   gradients of aug_membrane_grad, 2 A. */
 double aug_elem_grad(const aug_mesh *m, int64_t e, const double *xi, double *g);
+/* mem3 (lib/fem/membrane.c): surface gradients g[a*3+c] of N_a and the unit
+   normal nrm of element e, returns 2 A; the 9 x 9 membrane stiffness (plane
+   stress in the triangle's plane, 3 DOFs per node). */
+double aug_membrane_grad(const aug_mesh *m, int64_t e, double g[9], double nrm[3]);
+void aug_membrane_stiffness(const aug_mesh *m, int64_t e, double *Ke);
 /* Consistent load of the body force rho * m->grav (GRAV) on element e;
    0 (be zeroed) when the mesh has none. */
 int aug_elem_body(const aug_mesh *m, int64_t e, double *be);
@@ -72,6 +78,14 @@ int64_t aug_mesh_components(const aug_mesh *m, int32_t *comp);
 /* Singular scenes: every component's constraints must remove its rigid-body
    modes (6 in 3-D, 3 in 2-D); otherwise AUG_ESINGULAR naming the component. */
 int aug_check_support(const aug_mesh *m, aug_err *e);
+/* mem3 (lib/fem/membrane_support.c): a free direction of a node with no
+   stiffness (a flat part of the sheet: its normal), checked by
+   aug_check_support; after the factorization, a zero-stiffness mode of K
+   found by inverse iteration (a flexing free edge). AUG_ESINGULAR naming the
+   node. */
+int aug_membrane_support(const aug_mesh *m, aug_err *e);
+int aug_membrane_flex(cholmod_sparse *K, cholmod_factor *L, const aug_mesh *m, const int32_t *map,
+                      cholmod_common *cm, aug_err *e);
 
 /* Ordering choice (--ordering) and factor kind for CHOLMOD. */
 enum { AUG_ORDER_AUTO = 0, AUG_ORDER_AMD = 1, AUG_ORDER_METIS = 2 };

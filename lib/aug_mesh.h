@@ -9,6 +9,9 @@
 #define AUG_TRI3 2
 #define AUG_TET4 4
 #define AUG_HEX8 5
+/* The membrane triangle: a gmsh triangle (type 2) in 3-D, plane stress in its
+   own plane, 3 DOFs per node (lib/fem/membrane.c). Not a gmsh number. */
+#define AUG_MEM3 1002
 
 /* The largest element (hex8): nodes, DOFs (nodes x dim) and element matrix
    entries; fixed element arrays are sized by these. */
@@ -22,6 +25,7 @@ typedef struct aug_material {
     int32_t id;               /* gmsh physical tag (or user id) */
     char name[AUG_NAME];
     double E, nu, rho, t;     /* Young's modulus, Poisson ratio, density, thickness (2-D) */
+    double kf;                /* mem3: Winkler foundation modulus (FNDN; 0: none) */
 } aug_material;
 
 typedef struct aug_set {
@@ -34,8 +38,8 @@ typedef struct aug_set {
 enum { AUG_OUT_ALL = 0, AUG_OUT_SURFACE = 1, AUG_OUT_SET = 2 };
 
 typedef struct aug_mesh {
-    int dim;                  /* 2 (tri3, plane stress) or 3 (tet4, hex8) */
-    int etype;                /* AUG_TRI3, AUG_TET4 or AUG_HEX8 */
+    int dim;                  /* 2 (tri3, plane stress) or 3 (tet4, hex8, mem3) */
+    int etype;                /* AUG_TRI3, AUG_TET4, AUG_HEX8 or AUG_MEM3 */
     int nv;                   /* nodes per element: 3, 4 or 8 */
     int64_t nn;               /* nodes */
     double *x;                /* nn*dim coordinates */
@@ -61,7 +65,7 @@ typedef struct aug_mesh {
 } aug_mesh;
 
 enum { AUG_HAVE_NODE = 1, AUG_HAVE_ELEM = 2, AUG_HAVE_MATL = 4, AUG_HAVE_FIXD = 8,
-       AUG_HAVE_LOAD = 16, AUG_HAVE_OUTS = 32, AUG_HAVE_GRAV = 64 };
+       AUG_HAVE_LOAD = 16, AUG_HAVE_OUTS = 32, AUG_HAVE_GRAV = 64, AUG_HAVE_FNDN = 128 };
 
 void aug_mesh_init(aug_mesh *m);
 void aug_mesh_free(aug_mesh *m);
@@ -95,12 +99,13 @@ int64_t aug_dofmap(const aug_mesh *m, int32_t *map);
    edges and tet4 4 triangles (facet f: every local node but f, increasing);
    hex8 6 quadrilaterals in gmsh's node order (nodes 0-3 the bottom
    counter-clockwise seen from above, 4-7 above them), each facet's nodes in
-   cyclic order, outward by the right-hand rule. */
-int aug_etype_nv(int etype);          /* 3, 4, 8; 0 for an unknown type */
-int aug_etype_dim(int etype);         /* 2, 3, 3; 0 */
-const char *aug_etype_name(int etype);/* "tri3", "tet4", "hex8"; "?" */
-int aug_etype_nfacet(int etype);      /* 3, 4, 6 */
-int aug_etype_facet_nv(int etype);    /* 2, 3, 4 */
+   cyclic order, outward by the right-hand rule;
+   mem3 (the membrane triangle in 3-D) has the facets of tri3: its 3 edges. */
+int aug_etype_nv(int etype);          /* 3, 4, 8, 3 (mem3); 0 for an unknown type */
+int aug_etype_dim(int etype);         /* 2, 3, 3, 3; 0 */
+const char *aug_etype_name(int etype);/* "tri3", "tet4", "hex8", "mem3"; "?" */
+int aug_etype_nfacet(int etype);      /* 3, 4, 6, 3 */
+int aug_etype_facet_nv(int etype);    /* 2, 3, 4, 2 */
 /* local nodes of facet f (aug_etype_facet_nv of them) */
 const int *aug_etype_facet(int etype, int f);
 /* Elements a and b (connectivities of nv nodes, type etype) share a whole
@@ -124,7 +129,8 @@ double aug_cofactor3(const double a[3][3], double cof[3][3]);
 void aug_hex_gauss(int q, double xi[3]);
 
 /* Signed measure of element e: volume (tet4, hex8) or area (tri3, in the x-y
-   plane). */
+   plane; mem3: |(p1-p0) x (p2-p0)| / 2, never negative, a membrane having no
+   inside-out). */
 double aug_elem_measure(const aug_mesh *m, int64_t e);
 /* Scaled Jacobian of hex8 element e: the least over its 8 corners of
    det[e1, e2, e3] / (|e1| |e2| |e3|), e_k the edges from the corner to its

@@ -112,6 +112,7 @@ typedef struct aug_refine_opt {
     double min_dihedral; /* 3-D: also refine tets with a smaller dihedral angle (degrees) */
     int max_level3;      /* 3-D: bisection levels per step at most */
     int flip;            /* 2-D: Lawson flips after each bisection (Lepp-Delaunay) */
+    int min_angle_given; /* mem3: min_angle applies only when given (refine --min-angle) */
     int64_t max_new;     /* new nodes per step at most (0: 1000 + 100 per element of
                             the step's region) */
 } aug_refine_opt;
@@ -163,6 +164,8 @@ typedef struct aug_refiner {
     int64_t capce;
     int32_t *cnode;       /* cut-view node -> base node */
     int64_t capc;
+    int32_t *own;         /* mem3: base element -> the cut-view element it still is, -1 */
+    int64_t capown;
     int64_t nn0, nfree0;  /* original nodes and free DOFs */
     int32_t *map0;        /* aug_dofmap of the original mesh */
     const aug_dynp *dyn;  /* a dynamic stream's DYNP (updates of A, K, M), or NULL */
@@ -189,6 +192,15 @@ struct aug_bdelta;
 int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const struct aug_bdelta *bc,
                     const double *seg, int64_t nseg, aug_mdelta *out, struct aug_bdelta *outbc,
                     aug_update *u, aug_refine_q *q, aug_err *e);
+/* The same for a membrane (mem3) sheet (lib/refine/refine_mem3.c): the cut's
+   nodes keep their numbers (bc copied), refinement by longest-edge bisection
+   and coplanar flips in each triangle's plane; seg is not needed (the cut's
+   lips are boundary edges, never split). */
+/* a[0..need) available (new entries -1): 0 or -1 (memory) */
+int aug_refine_grow_i32(int32_t **a, int64_t *cap, int64_t need);
+int aug_refine_mem3_init(aug_refiner *r);
+int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const struct aug_bdelta *bc, aug_mdelta *out,
+                         struct aug_bdelta *outbc, aug_update *u, aug_refine_q *q, aug_err *e);
 /* A step without MDLT: translate bc only (and build its UPDT when u != NULL). */
 int aug_refine_bc_only(aug_refiner *r, int32_t step, const struct aug_bdelta *bc,
                        struct aug_bdelta *outbc, aug_update *u, aug_err *e);

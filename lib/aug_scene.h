@@ -41,7 +41,10 @@ void aug_group_name(const aug_tagged_group *g, char name[AUG_NAME]);
 /* m = the mesh of t, renumbered compactly: the nodes used by the elements in
    ascending tag order, the elements in ascending tag order. dim = 3 for tet4;
    for tri3 dim = 2 and every node must have the same z (to 1e-9 of the
-   mesh's extent). Materials: one per physical group of the mesh's dimension
+   mesh's extent); t->etype = AUG_MEM3 (a gmsh triangle mesh read as a
+   membrane, meshload --membrane) keeps x, y, z (dim 3), its materials are
+   the physical surfaces and its area |(p1-p0) x (p2-p0)| / 2 is never
+   negative (a triangle's normal is its node order's). Materials: one per physical group of the mesh's dimension
    (ascending tag; id = tag, name = physical name), then "default" (id 0) for
    the elements in none, all with the default properties; an element in two
    such groups is an error. Sets: one per physical group of any dimension
@@ -50,7 +53,7 @@ void aug_group_name(const aug_tagged_group *g, char name[AUG_NAME]);
    unless a group has that name. An element of measure <= 0 is an error
    naming its index and tag, unless reorient is set and the measure is
    negative: then its last two nodes are swapped. Degenerate elements
-   (|measure| <= 64 eps l^dim, l its longest edge) are always an error.
+   (|measure| <= 64 eps l^2 (triangles) or l^3, l its longest edge) are always an error.
    hex8 (dim 3): a scaled Jacobian (aug_hex_scaled_jacobian) <= 64 eps at a
    corner is an error naming the element, its tag and the corner, unless
    reorient is set and the mirrored hex (bottom and top faces exchanged,

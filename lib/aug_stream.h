@@ -89,7 +89,7 @@ typedef struct aug_codec {
 extern const aug_codec aug_codec_head, aug_codec_prov, aug_codec_tail;
 extern const aug_codec aug_codec_mode; /* lib/modal/mode_rec.c */
 extern const aug_codec aug_codec_node, aug_codec_matl, aug_codec_elem, aug_codec_nset,
-    aug_codec_fixd, aug_codec_load, aug_codec_outs, aug_codec_grav;
+    aug_codec_fixd, aug_codec_load, aug_codec_outs, aug_codec_grav, aug_codec_fndn;
 extern const aug_codec aug_codec_dofm, aug_codec_kmat, aug_codec_fvec, aug_codec_fact,
     aug_codec_feld;
 extern const aug_codec aug_codec_mdlt, aug_codec_updt, aug_codec_upkm, aug_codec_bdlt, aug_codec_path;

@@ -20,7 +20,8 @@ static void hex_mass(const aug_mesh *m, int64_t e, int lumped, double rho, doubl
 }
 
 /* Consistent: Me[(a,i),(b,j)] = rho delta_ij int N_a N_b, with int N_a N_b =
-   V (1 + delta_ab) / 20 (tet4) and t A (1 + delta_ab) / 12 (tri3).
+   V (1 + delta_ab) / 20 (tet4) and t A (1 + delta_ab) / 12 (tri3, and mem3
+   with its 3 components).
    Lumped (row sums of the consistent matrix): rho w / nv on the diagonal,
    w = V (tet4) or t A (tri3) ([Zienkiewicz]); V, A signed (aug_elem_measure).
    hex8: hex_mass. */
@@ -33,8 +34,8 @@ void aug_elem_mass(const aug_mesh *m, int64_t e, int lumped, double *Me)
         hex_mass(m, e, lumped, mat->rho, Me);
         return;
     }
-    double w = mat->rho * aug_elem_measure(m, e) * (d == 2 ? mat->t : 1.0);
-    double den = d == 3 ? 20.0 : 12.0;
+    double w = mat->rho * aug_elem_measure(m, e) * (d == 2 || m->etype == AUG_MEM3 ? mat->t : 1.0);
+    double den = nv == 4 ? 20.0 : 12.0; /* tet4; tri3 and mem3 */
     for (int a = 0; a < nv; a++)
         for (int b = 0; b < nv; b++) {
             double v = lumped ? (a == b ? w / nv : 0.0) : w * (a == b ? 2.0 : 1.0) / den;
@@ -43,7 +44,7 @@ void aug_elem_mass(const aug_mesh *m, int64_t e, int lumped, double *Me)
 }
 
 /* The consistent load of the body force rho * m->grav (GRAV) on element e:
-   be[a*dim+c] = grav_c rho int N_a (t in 2-D), the row sums of the consistent
+   be[a*dim+c] = grav_c rho int N_a (t in 2-D and mem3), the row sums of the consistent
    mass (sum_b N_b = 1), i.e. the lumped mass times grav. Returns 0 when the
    mesh has no body force (be zeroed). */
 int aug_elem_body(const aug_mesh *m, int64_t e, double *be)

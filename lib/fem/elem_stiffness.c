@@ -71,12 +71,17 @@ static void add_bdb(double *Ke, const double *g, int nv, int d, double lam, doub
    V = det J / 6 and A = det / 2 are signed: an inverted element gives -Ke.
    hex8 (Q1, trilinear): Ke = sum_q det J(xi_q) B(xi_q)' D B(xi_q) over the
    2x2x2 Gauss points (full integration; Hughes, The Finite Element Method,
-   sec. 3.5-3.8, aug_hex_shape and aug_hex_gauss), 24 x 24. */
+   sec. 3.5-3.8, aug_hex_shape and aug_hex_gauss), 24 x 24.
+   mem3: aug_membrane_stiffness (lib/fem/membrane.c), 9 x 9. */
 void aug_elem_stiffness(const aug_mesh *m, int64_t e, double *Ke)
 {
     const aug_material *mat = &m->mats[m->mat[e]];
     double E = mat->E, nu = mat->nu, mu = E / (2 * (1 + nu)), lam, g[AUG_MAX_EDOF];
     int d = m->dim, nv = m->nv, n = d * nv;
+    if (m->etype == AUG_MEM3) {
+        aug_membrane_stiffness(m, e, Ke);
+        return;
+    }
     memset(Ke, 0, sizeof(double) * (size_t)n * n);
     if (nv == 8) {
         double xi[3], N[8];
@@ -104,5 +109,6 @@ double aug_elem_grad(const aug_mesh *m, int64_t e, const double *xi, double *g)
     static const double centre[3] = {0, 0, 0};
     double N[8];
     if (m->etype == AUG_HEX8) return aug_hex_shape(m, e, xi ? xi : centre, N, g);
+    if (m->etype == AUG_MEM3) return aug_membrane_grad(m, e, g, N);
     return m->dim == 3 ? tet_grad(m, e, g) : tri_grad(m, e, g);
 }

@@ -62,7 +62,9 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
     r->lnz = cm->lnz;
     r->fl = cm->fl;
     t0 = aug_now();
-    if (aug_factorize(F, r->L, m, r->map, cm, e)) return e->code;
+    if (aug_factorize(F, r->L, m, r->map, cm, e) ||
+        (!o->dyn && m->etype == AUG_MEM3 && aug_membrane_flex(F, r->L, m, r->map, cm, e)))
+        return e->code;
     r->t_fac = aug_now() - t0;
     t0 = aug_now();
     if (aug_solve(F, r->L, r->f, r->a, &r->relres, cm, e)) return e->code;

@@ -67,7 +67,9 @@ static void rigid_row(int dim, const double *y, int k, double *row)
    nonsingular: its eigenvalues (LAPACK dsyev) all above 1e-9 lambda_max(G),
    with coordinates centred and scaled per component. The first component that
    is not held is reported (AUG_ESINGULAR) with its size, smallest node and the
-   material of its first element; so is a node in no element with a free DOF. */
+   material of its first element; so is a node in no element with a free DOF.
+   mem3: a triangle on a foundation (FNDN) holds n.r at its centroid as a
+   constraint would; then aug_membrane_support (a flat sheet's normals). */
 int aug_check_support(const aug_mesh *m, aug_err *e)
 {
     aug_err_clear(e);
@@ -127,6 +129,23 @@ int aug_check_support(const aug_mesh *m, aug_err *e)
         for (int p = 0; p < nr; p++)
             for (int q = 0; q < nr; q++) a[4 + p * nr + q] += row[p] * row[q];
     }
+    /* mem3 on a foundation (FNDN): each such triangle holds the normal
+       component n.r of a rigid motion at its centroid, like a constraint on n */
+    for (int64_t el = 0; m->etype == AUG_MEM3 && el < m->ne; el++) {
+        if (!(m->mats[m->mat[el]].kf > 0)) continue;
+        const int32_t *c = m->conn + el * 3;
+        double g[9], n[3], y[3] = {0, 0, 0}, row[6], rn[6] = {0, 0, 0, 0, 0, 0};
+        aug_membrane_grad(m, el, g, n);
+        double *a = acc + comp[c[0]] * 40, s = a[3] > 0 ? a[3] : 1;
+        for (int q = 0; q < 3; q++)
+            y[q] = ((m->x[c[0] * 3 + q] + m->x[c[1] * 3 + q] + m->x[c[2] * 3 + q]) / 3 - a[q]) / s;
+        for (int k = 0; k < 3; k++) {
+            rigid_row(3, y, k, row);
+            for (int p = 0; p < 6; p++) rn[p] += n[k] * row[p];
+        }
+        for (int p = 0; p < 6; p++)
+            for (int q = 0; q < 6; q++) a[4 + p * 6 + q] += rn[p] * rn[q];
+    }
     for (int64_t c = 0; c < nc; c++) {
         double *G = acc + c * 40 + 4, w[6];
         int any = 0;
@@ -159,5 +178,5 @@ done:
     free(acc);
     free(first_el);
     free(size);
-    return e->code;
+    return e->code ? e->code : aug_membrane_support(m, e);
 }

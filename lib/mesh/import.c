@@ -170,8 +170,8 @@ static int import_nodes(const aug_tagged *t, work *w, aug_mesh *m, aug_err *e)
 /* materials: physical groups of the mesh's dimension, then "default" */
 static int import_materials(const aug_tagged *t, work *w, aug_mesh *m, aug_err *e)
 {
-    int nmg = 0;
-    for (int i = 0; i < t->ngroup; i++) nmg += t->groups[i].dim == m->dim;
+    int nmg = 0, gdim = m->etype == AUG_MEM3 ? 2 : m->dim; /* a membrane's groups are surfaces */
+    for (int i = 0; i < t->ngroup; i++) nmg += t->groups[i].dim == gdim;
     m->mats = aug_calloc((size_t)nmg + 1, sizeof *m->mats);
     m->mat = aug_malloc((size_t)m->ne * sizeof(int32_t));
     if (!m->mats || !m->mat) return NOMEM();
@@ -179,7 +179,7 @@ static int import_materials(const aug_tagged *t, work *w, aug_mesh *m, aug_err *
     int im = 0;
     for (int o = 0; o < t->ngroup; o++) {
         const aug_tagged_group *g = &t->groups[w->ord[o]];
-        if (g->dim != m->dim) continue;
+        if (g->dim != gdim) continue;
         aug_material *a = &m->mats[im];
         a->id = g->tag;
         aug_group_name(g, a->name);
@@ -243,7 +243,7 @@ static int hex_orientation(int reorient, work *w, aug_mesh *m, int64_t k, aug_er
 /* refuse inverted (or, with reorient, flip them) and degenerate elements */
 static int import_orientation(int reorient, work *w, aug_mesh *m, aug_err *e)
 {
-    int nv = m->nv, dim = m->dim;
+    int nv = m->nv, dim = m->dim, mdim = nv == 3 ? 2 : 3; /* of the measure: area or volume */
     for (int64_t k = 0; k < m->ne; k++) {
         if (nv == 8) {
             if (hex_orientation(reorient, w, m, k, e)) return e->code;
@@ -261,8 +261,8 @@ static int import_orientation(int reorient, work *w, aug_mesh *m, aug_err *e)
                 l = fmax(l, sqrt(s));
             }
         double v = aug_elem_measure(m, k);
-        const char *what = dim == 3 ? "volume" : "area";
-        if (!(fabs(v) > 64 * DBL_EPSILON * pow(l, dim)))
+        const char *what = mdim == 3 ? "volume" : "area";
+        if (!(fabs(v) > 64 * DBL_EPSILON * pow(l, mdim)))
             return ERR(AUG_EDATA, "element %lld (gmsh tag %zu) is degenerate (%s %.6g)", (long long)k,
                        w->elems[k].tag, what, v);
         if (v < 0) {
@@ -326,7 +326,7 @@ int aug_import(const aug_tagged *t, int reorient, aug_mesh *m, aug_err *e)
     aug_err_clear(e);
     aug_mesh_init(m);
     if (!aug_etype_nv(t->etype))
-        return ERR(AUG_EUSAGE, "element type %d is not tet4, hex8 or tri3", t->etype);
+        return ERR(AUG_EUSAGE, "element type %d is not tet4, hex8, tri3 or mem3", t->etype);
     if (t->nelem == 0) return ERR(AUG_EDATA, "the mesh has no elements");
     if (t->nelem > INT32_MAX || t->nnode > INT32_MAX)
         return ERR(AUG_EDATA, "the mesh is too large (%zu nodes, %zu elements)", t->nnode, t->nelem);

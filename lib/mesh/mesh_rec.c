@@ -1,6 +1,7 @@
 /* Mesh-family codecs (formats/stream.md 5): NODE MATL ELEM nSEt FIXD LOAD oUTs,
    read by absorbing into an aug_mesh (which checks them against the records
    before), written from one, checked on their own and dumped. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,7 +9,7 @@
 
 int aug_mesh_is_record(const char *t)
 {
-    static const char *types[] = {"NODE", "ELEM", "MATL", "nSEt", "FIXD", "LOAD", "oUTs", "GRAV"};
+    static const char *types[] = {"NODE", "ELEM", "MATL", "nSEt", "FIXD", "LOAD", "oUTs", "GRAV", "FNDN"};
     for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
         if (memcmp(t, types[i], 4) == 0) return 1;
     return 0;
@@ -110,10 +111,17 @@ static int absorb_elem(aug_mesh *m, const aug_rec *rec, aug_err *e)
                             (long long)i, sj, corner);
             continue;
         }
-        double v = aug_elem_measure(m, i);
-        if (!(v > 0))
+        double v = aug_elem_measure(m, i), lim = 0;
+        if (et == AUG_MEM3) { /* |cross| / 2 is never negative: degenerate below 64 eps l^2 */
+            for (int a = 0; a < 3; a++) {
+                const double *p = m->x + (size_t)m->conn[i * 3 + a] * 3,
+                             *q = m->x + (size_t)m->conn[i * 3 + (a + 1) % 3] * 3;
+                lim = fmax(lim, 64 * DBL_EPSILON * (pow(p[0] - q[0], 2) + pow(p[1] - q[1], 2) + pow(p[2] - q[2], 2)));
+            }
+        }
+        if (!(v > lim))
             return DATA("element %lld is inverted or degenerate (%s %.6g)", (long long)i,
-                        m->dim == 3 ? "volume" : "area", v);
+                        m->nv == 4 ? "volume" : "area", v);
     }
     return 0;
 }
@@ -218,6 +226,26 @@ static int absorb_grav(aug_mesh *m, const aug_rec *rec, aug_err *e)
     return 0;
 }
 
+/* FNDN: i32 nmat, i32 0, f64 k[nmat] after MATL (the same nmat), each
+   finite, 0 <= k <= 1e300; m NULL: the payload checked alone */
+static int absorb_fndn(aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t n = aug_cur_i32(&c);
+    aug_cur_i32(&c);
+    if (n < 0 || !aug_cur_has(&c, (uint64_t)n, 8) || c.len - c.pos != (uint64_t)n * 8)
+        return BAD("material count %d does not match the payload", (int)n);
+    if (m && !(m->have & AUG_HAVE_MATL)) return aug_err_set(e, AUG_EORDER, rec->index, rec->type, "FNDN before MATL");
+    if (m && n != m->nmat) return DATA("%d foundation moduli for %d materials", (int)n, m->nmat);
+    for (int i = 0; i < n; i++) {
+        double k = aug_cur_f64(&c);
+        if (!(k >= 0 && k <= 1e300)) return DATA("material %d: foundation modulus %g (want 0 <= k, finite)", i, k);
+        if (m) m->mats[i].kf = k;
+    }
+    return 0;
+}
+
 int aug_mesh_absorb(aug_mesh *m, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
@@ -233,6 +261,7 @@ int aug_mesh_absorb(aug_mesh *m, const aug_rec *rec, aug_err *e)
         rc = absorb_dofval(m, rec, &m->nload, &m->load_dof, &m->load_val, e), bit = AUG_HAVE_LOAD;
     else if (!memcmp(t, "oUTs", 4)) rc = absorb_outs(m, rec, e), bit = AUG_HAVE_OUTS;
     else if (!memcmp(t, "GRAV", 4)) rc = absorb_grav(m, rec, e), bit = AUG_HAVE_GRAV;
+    else if (!memcmp(t, "FNDN", 4)) rc = absorb_fndn(m, rec, e), bit = AUG_HAVE_FNDN;
     else return aug_err_set(e, AUG_EUSAGE, rec->index, t, "not a mesh record");
     if (!rc) m->have |= bit;
     return rc;
@@ -295,6 +324,12 @@ int aug_mesh_write(aug_writer *w, const aug_mesh *m, aug_err *e)
         aug_buf_f64v(&b, m->grav, 3);
         if (put(w, "GRAV", &b, e)) return e->code;
     }
+    if (m->have & AUG_HAVE_FNDN) {
+        aug_buf_i32(&b, m->nmat);
+        aug_buf_i32(&b, 0);
+        for (int i = 0; i < m->nmat; i++) aug_buf_f64(&b, m->mats[i].kf);
+        if (put(w, "FNDN", &b, e)) return e->code;
+    }
     if (m->have & AUG_HAVE_OUTS) {
         aug_buf_i32(&b, m->out_kind);
         aug_buf_i32(&b, 0);
@@ -320,6 +355,7 @@ static int check_alone(const aug_rec *rec, aug_err *e)
         aug_mesh_free(&m);
         return rc;
     }
+    if (!memcmp(t, "FNDN", 4)) return absorb_fndn(NULL, rec, e);
     aug_cur c;
     aug_cur_init(&c, rec);
     if (!memcmp(t, "ELEM", 4)) {
@@ -418,6 +454,9 @@ static int mesh_dump(FILE *o, aug_mesh *m, const aug_rec *rec, aug_err *e)
     } else if (!memcmp(t, "GRAV", 4)) {
         fputs("  g ", o), aug_txt_f(o, m->grav[0]), fputc(' ', o), aug_txt_f(o, m->grav[1]);
         fputc(' ', o), aug_txt_f(o, m->grav[2]), fputc('\n', o);
+    } else if (!memcmp(t, "FNDN", 4)) {
+        fprintf(o, "  nmat %d\n", m->nmat);
+        for (int i = 0; i < m->nmat; i++) fprintf(o, "  k %d ", i), aug_txt_f(o, m->mats[i].kf), fputc('\n', o);
     } else {
         fprintf(o, "  kind %d\n", m->out_kind);
         aug_txt_name(o, "name", m->out_name, AUG_NAME);
@@ -435,3 +474,4 @@ CODEC(aug_codec_fixd);
 CODEC(aug_codec_load);
 CODEC(aug_codec_outs);
 CODEC(aug_codec_grav);
+CODEC(aug_codec_fndn);

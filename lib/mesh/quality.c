@@ -46,17 +46,26 @@ double aug_elem_measure(const aug_mesh *m, int64_t e)
         return dot3(n, c) / 6.0;
     }
     const double *p0 = P(m, e, 0), *p1 = P(m, e, 1), *p2 = P(m, e, 2);
+    if (m->etype == AUG_MEM3) {
+        double a[3], b[3], n[3];
+        sub3(p1, p0, a);
+        sub3(p2, p0, b);
+        cross3(a, b, n);
+        return 0.5 * norm3(n);
+    }
     return 0.5 * ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p2[0] - p0[0]) * (p1[1] - p0[1]));
 }
 
-/* tri3: aspect = edge_ratio = l_max / l_min (thesis 003 eq. 3.10, sec. 3.2.2),
-   min_angle by the law of cosines (degrees), measure signed */
+/* tri3 (and mem3, in its own plane): aspect = edge_ratio = l_max / l_min
+   (thesis 003 eq. 3.10, sec. 3.2.2), min_angle by the law of cosines
+   (degrees), measure signed */
 static void tri_quality(const aug_mesh *m, int64_t e, aug_quality *q)
 {
     double L[3], emin = INFINITY, emax = 0;
     for (int i = 0; i < 3; i++) {
         const double *a = P(m, e, i), *b = P(m, e, (i + 1) % 3);
         L[i] = hypot(b[0] - a[0], b[1] - a[1]);
+        if (m->dim == 3) L[i] = hypot(L[i], b[2] - a[2]);
         emin = fmin(emin, L[i]);
         emax = fmax(emax, L[i]);
     }

@@ -26,7 +26,8 @@ static const aug_set *need_set(aug_sink *k, const aug_mesh *m, const char *opt, 
 /* each property of each material: --material's, else --default-material's, else its own */
 static void materials(const aug_scene_spec *s, aug_mesh *m, aug_sink *k)
 {
-    if (m->dim == 3 && s->def.has[AUG_PROP_T])
+    int solid = m->dim == 3 && m->etype != AUG_MEM3; /* mem3: a sheet of thickness t */
+    if (solid && s->def.has[AUG_PROP_T])
         aug_sink_report(k, "--default-material %s: t= (thickness) applies to 2-D meshes only", s->defarg);
     for (int j = 0; j < s->nmat; j++) {
         const aug_mat_spec *q = &s->mat[j];
@@ -35,9 +36,9 @@ static void materials(const aug_scene_spec *s, aug_mesh *m, aug_sink *k)
         if (!found)
             aug_sink_report(k, "--material %s: '%s' is %s", q->arg, q->group,
                             !aug_mesh_set(m, q->group) ? "no material of the mesh"
-                            : m->dim == 3              ? "not a physical volume"
+                            : solid                    ? "not a physical volume"
                                                        : "not a physical surface");
-        if (m->dim == 3 && q->p.has[AUG_PROP_T])
+        if (solid && q->p.has[AUG_PROP_T])
             aug_sink_report(k, "--material %s: t= (thickness) applies to 2-D meshes only", q->arg);
     }
     for (int i = 0; i < m->nmat; i++) {

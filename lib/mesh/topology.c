@@ -11,17 +11,21 @@ static const int hex_facets[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
 
 int aug_etype_nv(int etype)
 {
-    return etype == AUG_TRI3 ? 3 : etype == AUG_TET4 ? 4 : etype == AUG_HEX8 ? 8 : 0;
+    return etype == AUG_TRI3 || etype == AUG_MEM3 ? 3 : etype == AUG_TET4 ? 4 : etype == AUG_HEX8 ? 8 : 0;
 }
 
 int aug_etype_dim(int etype)
 {
-    return etype == AUG_TRI3 ? 2 : etype == AUG_TET4 || etype == AUG_HEX8 ? 3 : 0;
+    return etype == AUG_TRI3 ? 2 : etype == AUG_TET4 || etype == AUG_HEX8 || etype == AUG_MEM3 ? 3 : 0;
 }
 
 const char *aug_etype_name(int etype)
 {
-    return etype == AUG_TRI3 ? "tri3" : etype == AUG_TET4 ? "tet4" : etype == AUG_HEX8 ? "hex8" : "?";
+    return etype == AUG_TRI3   ? "tri3"
+           : etype == AUG_TET4 ? "tet4"
+           : etype == AUG_HEX8 ? "hex8"
+           : etype == AUG_MEM3 ? "mem3"
+                               : "?";
 }
 
 int aug_etype_nfacet(int etype)

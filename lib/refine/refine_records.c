@@ -93,14 +93,26 @@ int aug_refine_records(aug_refiner *r, const aug_rec *recs, int n, int32_t step,
     if (g.imd >= 0) {
         const aug_rec *rec = &recs[g.imd];
         if ((rc = aug_read_mdelta(rec, dim, nv, &d, e))) goto done;
-        if ((rc = aug_refine_step(r, &d, g.ibc >= 0 ? &bc : NULL, g.seg, g.nseg, &out, &outbc,
-                                  g.iup >= 0 ? &u : NULL, &q, e))) {
+        if ((rc = r->base.etype == AUG_MEM3
+                      ? aug_refine_step_mem3(r, &d, g.ibc >= 0 ? &bc : NULL, &out, &outbc, g.iup >= 0 ? &u : NULL,
+                                             &q, e)
+                      : aug_refine_step(r, &d, g.ibc >= 0 ? &bc : NULL, g.seg, g.nseg, &out, &outbc,
+                                        g.iup >= 0 ? &u : NULL, &q, e))) {
             rc = at(e, rec);
             goto done;
         }
         have_q = 1;
     } else if (g.ibc >= 0) {
-        if ((rc = aug_refine_bc_only(r, recs[g.ibc].step, &bc, &outbc, g.iup >= 0 ? &u : NULL, e))) {
+        aug_mdelta d0; /* mem3: an empty MDLT, refined (nothing) with its bc */
+        aug_mdelta_init(&d0);
+        int32_t i0[1] = {0};
+        double x0[3] = {0, 0, 0};
+        d0.step = recs[g.ibc].step;
+        d0.parent = d0.elem = d0.conn = d0.conn_add = d0.mat_add = i0;
+        d0.x = x0;
+        if ((rc = r->base.etype == AUG_MEM3
+                      ? aug_refine_step_mem3(r, &d0, &bc, &out, &outbc, g.iup >= 0 ? &u : NULL, &q, e)
+                      : aug_refine_bc_only(r, recs[g.ibc].step, &bc, &outbc, g.iup >= 0 ? &u : NULL, e))) {
             rc = at(e, &recs[g.ibc]);
             goto done;
         }
@@ -128,7 +140,7 @@ int aug_refine_records(aug_refiner *r, const aug_rec *recs, int n, int32_t step,
     }
     if (!rc && have_q) {
         aug_kv qual, tim;
-        aug_refine_q_kv(&q, dim, &qual, &tim);
+        aug_refine_q_kv(&q, r->base.etype == AUG_MEM3 ? 2 : dim, &qual, &tim); /* mem3: triangles' angles */
         rc = aug_write_kv(w, "qUAl", step, &qual, e);
         if (!rc) rc = aug_write_kv(w, "tIMe", step, &tim, e);
     }

@@ -26,13 +26,15 @@ void aug_refine_opt_default(aug_refine_opt *o)
     o->max_new = 0; /* automatic: 1000 + 100 per element of the step's region */
 }
 
-static int grow_i32(int32_t **a, int64_t *cap, int64_t need)
+/* a[0..need) available (doubling from 1024), new entries -1 */
+int aug_refine_grow_i32(int32_t **a, int64_t *cap, int64_t need)
 {
     if (need <= *cap) return 0;
     int64_t c = *cap ? *cap : 1024;
     while (c < need) c *= 2;
     int32_t *p = aug_realloc(*a, (size_t)c * sizeof *p);
     if (!p) return -1;
+    for (int64_t i = *cap; i < c; i++) p[i] = -1;
     *a = p;
     *cap = c;
     return 0;
@@ -59,6 +61,14 @@ int aug_refiner_init(aug_refiner *r, const aug_mesh *m, const aug_refine_opt *o,
     memset(r, 0, sizeof *r);
     if (o) r->opt = *o;
     else aug_refine_opt_default(&r->opt);
+    if (m->etype == AUG_MEM3) { /* aug_refine_step_mem3: the cut view, the base, the maps */
+        if (aug_mesh_copy(&r->cut, m) || aug_mesh_copy(&r->base, m) || aug_refine_mem3_init(r)) goto nomem;
+        r->nn0 = m->nn;
+        r->map0 = aug_malloc((size_t)(m->nn * m->dim + 1) * sizeof *r->map0);
+        if (!r->map0) goto nomem;
+        r->nfree0 = aug_dofmap(m, r->map0);
+        return 0;
+    }
     if (!((m->dim == 2 && m->nv == 3) || (m->dim == 3 && m->nv == 4)))
         return aug_err_set(e, AUG_EDATA, -1, "ELEM", "refine needs tri3 or tet4 elements (a %s mesh is not refined)",
                            aug_etype_name(m->etype));
@@ -76,7 +86,7 @@ int aug_refiner_init(aug_refiner *r, const aug_mesh *m, const aug_refine_opt *o,
                                      (int32_t)t) == -1)
                     goto nomem;
     }
-    if (grow_cut(r, m->ne) || grow_i32(&r->cnode, &r->capc, m->nn)) goto nomem;
+    if (grow_cut(r, m->ne) || aug_refine_grow_i32(&r->cnode, &r->capc, m->nn)) goto nomem;
     for (int64_t t = 0; t < m->ne; t++) {
         r->carea0[t] = r->work.area0[t];
         r->cel[t] = (int32_t)t;
@@ -101,6 +111,7 @@ void aug_refiner_free(aug_refiner *r)
     free(r->carea0);
     free(r->cel);
     free(r->cnode);
+    free(r->own);
     free(r->map0);
     memset(r, 0, sizeof *r);
 }
@@ -235,7 +246,7 @@ int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *bc, c
         olda0[i] = r->carea0[d->elem[i]];
     }
     if ((rc = aug_mesh_apply(C, d, e))) goto out;
-    if (grow_cut(r, C->ne) || grow_i32(&r->cnode, &r->capc, C->nn)) goto nomem;
+    if (grow_cut(r, C->ne) || aug_refine_grow_i32(&r->cnode, &r->capc, C->nn)) goto nomem;
     for (int64_t i = nnc; i < C->nn; i++) r->cnode[i] = -1;
     if (dim == 2) {
         for (int64_t i = 0; i < d->nmod; i++)

@@ -459,7 +459,7 @@ static void print_quality(FILE *o, const aug_summary *s, const snap *p, const ch
     int tet = m->nv == 4, hex = m->nv == 8;
     const char *ang = tet ? "min dihedral" : hex ? "min edge angle" : "min angle";
     fprintf(o, "quality (%s mesh: %lld elements)\n", which, (long long)p->q.ne);
-    fprintf(o, "  total %-10s %.10g\n", m->dim == 3 ? "volume" : "area", p->q.measure);
+    fprintf(o, "  total %-10s %.10g\n", m->nv != 3 ? "volume" : "area", p->q.measure);
     fprintf(o, "  aspect ratio     min %.6g  mean %.6g  max %.6g  (%s)\n", p->q.asp_min,
             p->q.asp_mean, p->q.asp_max, tet ? "R/(3r), 1 for the regular tet" : "longest/shortest edge");
     fprintf(o, "  %-16s min %.6g  mean %.6g  max %.6g  (degrees)\n", ang, p->q.ang_min,

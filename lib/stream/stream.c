@@ -39,6 +39,7 @@ static const aug_rectype table[] = {
     {"LOAD", 8, AUG_MAX_BODY, 1, 1, 0, &aug_codec_load},
     {"oUTs", 80, AUG_MAX_BODY, 1, 1, 0, &aug_codec_outs},
     {"GRAV", 24, 24, 1, 1, 0, &aug_codec_grav},
+    {"FNDN", 8, 1 << 24, 1, 1, 0, &aug_codec_fndn},
     {"DOFM", 24, AUG_MAX_BODY, 2, 1, 0, &aug_codec_dofm},
     {"KMAT", 24, AUG_MAX_BODY, 2, 0, 0, &aug_codec_kmat},
     {"FVEC", 16, AUG_MAX_BODY, 2, 0, 0, &aug_codec_fvec},

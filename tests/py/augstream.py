@@ -104,6 +104,10 @@ def mesh(recs):
             m["fix" if typ == "FIXD" else "load"] = dict(zip(dof, val))
         elif typ == "GRAV":
             m["grav"] = struct.unpack_from("<3d", p, 0)
+        elif typ == "FNDN":
+            n, = struct.unpack_from("<i", p, 0)
+            assert len(p) == 8 + 8 * n
+            m["fndn"] = list(struct.unpack_from("<%dd" % n, p, 8))
         elif typ == "oUTs":
             kind, = struct.unpack_from("<i", p, 0)
             nm = name(p[8:72])
@@ -177,6 +181,11 @@ def corners_measure(P):
         c = [P[3][k] - P[0][k] for k in range(3)]
         return (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
                 + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
+    if len(P[0]) == 3:  # mem3: |(p1-p0) x (p2-p0)| / 2 (formats 5.3)
+        a = [P[1][k] - P[0][k] for k in range(3)]
+        b = [P[2][k] - P[0][k] for k in range(3)]
+        n = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+        return 0.5 * (n[0] ** 2 + n[1] ** 2 + n[2] ** 2) ** 0.5
     return 0.5 * ((P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[2][0] - P[0][0]) * (P[1][1] - P[0][1]))
 
 

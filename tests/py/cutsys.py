@@ -129,10 +129,39 @@ def hex_points(P):
     return out
 
 
-def stiffness(P, dim, mat):
+def membrane(P, mat, kf):
+    """mem3 (formats 5.3, 5.9): the tri3 plane-stress matrix in the triangle's
+    own axes e1 = (p1-p0)/|p1-p0|, e2 = n x e1, rotated to 3-D, K = T' K2 T
+    with T = diag(E', E', E'), E = [e1 e2] (3 x 2); plus the foundation
+    kf A (1 + delta_ab) / 12 n n'"""
+    a = [P[1][k] - P[0][k] for k in range(3)]
+    b = [P[2][k] - P[0][k] for k in range(3)]
+    n = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    ln, la = math.sqrt(sum(v * v for v in n)), math.sqrt(sum(v * v for v in a))
+    n = [v / ln for v in n]
+    e1 = [v / la for v in a]
+    e2 = [n[1] * e1[2] - n[2] * e1[1], n[2] * e1[0] - n[0] * e1[2], n[0] * e1[1] - n[1] * e1[0]]
+    q = [[sum((P[i][k] - P[0][k]) * e[k] for k in range(3)) for e in (e1, e2)] for i in range(3)]
+    K2 = stiffness(q, 2, mat)
+    K = [[0.0] * 9 for _ in range(9)]
+    E = [e1, e2]
+    area = ln / 2
+    for A in range(3):
+        for B in range(3):
+            for i in range(3):
+                for j in range(3):
+                    v = sum(E[k][i] * K2[A * 2 + k][B * 2 + l] * E[l][j] for k in range(2) for l in range(2))
+                    K[A * 3 + i][B * 3 + j] = v + kf * area * (2.0 if A == B else 1.0) / 12 * n[i] * n[j]
+    return K
+
+
+def stiffness(P, dim, mat, kf=0.0):
     """element stiffness of the simplex or trilinear hex (8 corners: 2x2x2
     Gauss) with corners P (list of lists), dof order node*dim + c; mat = (id,
-    name, E, nu, rho, t)"""
+    name, E, nu, rho, t); 3 corners in 3-D: the membrane triangle (kf its
+    foundation modulus)"""
+    if dim == 3 and len(P) == 3:
+        return membrane(P, mat, kf)
     _, _, E, nu, _, t = mat
     mu = E / (2 * (1 + nu))
     if len(P) == 8:
@@ -187,6 +216,7 @@ class CutMesh:
         self.conn = list(m["conn"])
         self.mat = list(m["mat"])
         self.mats = m["mats"]
+        self.kf = m.get("fndn", [0.0] * len(self.mats))
         self.fix = dict(m.get("fix", {}))
         self.load = dict(m.get("load", {}))
         self.grav = tuple(m.get("grav", (0.0, 0.0, 0.0)))
@@ -248,7 +278,7 @@ class CutMesh:
         if not any(self.grav):
             return [0.0] * (len(conn) * self.dim)
         _, _, _, _, rho, t = self.mats[mat]
-        meas = abs(augstream.corners_measure(P)) * (t if self.dim == 2 else 1.0)
+        meas = abs(augstream.corners_measure(P)) * (t if self.dim == 2 or self.nv == 3 else 1.0)
         w = rho * meas / len(conn)
         return [w * self.grav[c] for _ in conn for c in range(self.dim)]
 
@@ -268,7 +298,7 @@ class CutMesh:
     def element_terms(self, conn, mat, dofs):
         """the element's terms of K_t ((i, j), v) and of f_t (i, v) under the
         current constraints of its DOFs (the body force included)"""
-        Ke = stiffness([self.x[v] for v in conn], self.dim, self.mats[mat])
+        Ke = stiffness([self.x[v] for v in conn], self.dim, self.mats[mat], self.kf[mat])
         gi = [self.index(d) for d in dofs]
         fixed = [d in self.fix for d in dofs]
         kt, ft = [], []

@@ -21,8 +21,8 @@ static void make_mesh(aug_mesh *m)
     m->mat[1] = 1;
     m->nmat = 2;
     m->mats = calloc(2, sizeof *m->mats);
-    m->mats[0] = (aug_material){3, "soft", 1e3, 0.45, 1000, 1};
-    m->mats[1] = (aug_material){4, "hard", 1e6, 0.3, 2000, 1};
+    m->mats[0] = (aug_material){3, "soft", 1e3, 0.45, 1000, 1, 0};
+    m->mats[1] = (aug_material){4, "hard", 1e6, 0.3, 2000, 1, 0};
     m->nset = 1;
     m->sets = calloc(1, sizeof *m->sets);
     strcpy(m->sets[0].name, "fixed");
