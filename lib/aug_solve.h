@@ -313,17 +313,33 @@ int64_t aug_gmres_closure_h(const aug_gmres *g);
 
 /* ---- baselines --------------------------------------------------------- */
 
-/* refactor.c: CHOLMOD analyze (when the pattern changed) + numeric
-   factorization + solve of K_t. */
+/* refactor.c: CHOLMOD re-factorization of K_t: with an ordering given
+   (aug_refactor_order) the ordering of K0 extended to the new DOFs, analysed
+   anew (no re-ordering) only when the pattern changed and re-ordered by
+   CHOLMOD only past AUG_REFACTOR_FILL times the fill of its last ordering;
+   the factor's memory kept across steps; numeric-only factorization whenever
+   the pattern holds. Without an ordering: cholmod_analyze (a fresh analysis)
+   whenever the pattern changed. */
+#define AUG_REFACTOR_FILL 1.2
 typedef struct aug_refactor {
     cholmod_factor *L;
     int64_t n, nnz;
     int *Kp, *Ki;        /* pattern of the last analyzed matrix */
+    int64_t pcap, icap;
+    int *perm;           /* the ordering to extend (NULL: CHOLMOD's each time) */
+    int64_t nperm;
+    double lnz, lnz_ref; /* nnz(L) now / of CHOLMOD's last ordering */
     int analyzed;        /* 1 if the last step ran the symbolic analysis */
+    int reordered;       /* 1 if it also ran CHOLMOD's ordering */
+    int kept;            /* 1 if the factor's numeric storage was kept */
     int singular;
+    cholmod_dense *X, *Y, *E; /* cholmod_solve2 workspaces */
 } aug_refactor;
 void aug_refactor_init(aug_refactor *r);
 void aug_refactor_free(aug_refactor *r, cholmod_common *cm);
+/* the fill-reducing ordering (perm[k]: original index at position k) of the
+   first n DOFs to extend from now on; 0, or -1 out of memory */
+int aug_refactor_order(aug_refactor *r, const int32_t *perm, int64_t n);
 /* times: assemble, analyze, factor, solve */
 int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double times[4],
                       cholmod_common *cm, aug_err *e);

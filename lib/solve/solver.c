@@ -106,6 +106,11 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     }
     s->base = aug_base_new(L0, K0, f0, -1, cm, e);
     if (!s->base || aug_cum_init(&s->cum, s->base->n, e)) goto fail;
+    /* refactor extends the ordering of K0 (README: the baselines' configuration) */
+    if (s->use[AUG_M_REFACTOR] && aug_refactor_order(&s->rf, s->base->perm, s->base->n)) {
+        aug_err_set(e, AUG_ENOMEM, -1, "FACT", "out of memory");
+        goto fail;
+    }
     if (s->use[AUG_M_GMRES]) {
         s->gm = aug_gmres_new(o->gmres_prec, o->restart, o->maxit, o->tol, e);
         if (!s->gm || aug_gmres_set_base(s->gm, s->base, s->cut.K0, e)) goto fail;
@@ -380,7 +385,10 @@ static int refactor_solve(aug_solver *s, const double *b, double *x, aug_err *e)
 
 static void refactor_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
 {
-    if (r->ran) put(st, "analyzed", s->rf.analyzed);
+    if (r->ran)
+        put(st, "analyzed", s->rf.analyzed), put(st, "reordered", s->rf.reordered),
+            put(st, "kept", s->rf.kept),
+            put(st, "lnz", s->rf.lnz);
     cut_size(s, st);
     if (r->ran)
         put(tm, "assemble", r->t[0]), put(tm, "analyze", r->t[1]), put(tm, "factor", r->t[2]),

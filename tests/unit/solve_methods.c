@@ -3,7 +3,8 @@
    background swaps give the same fields; iterative refinement is counted;
    a singular step is reported by every method; a failed background
    re-factorization is an error unless a method already reported its step;
-   a background job orders K anew when the given ordering fills too much. */
+   a background job orders K anew when the given ordering fills too much;
+   refactor on the extended ordering of K0 equals a fresh analysis. */
 #include "t.h"
 #include "solve_gen.h"
 
@@ -357,6 +358,66 @@ static void background_reorders_on_fill(void)
     gsl_rng_free(r);
 }
 
+/* refactor with the ordering of K0 extended to the new DOFs (lib/solve/
+   refactor.c), simplicial and supernodal (its numeric storage handed from
+   factor to factor): every step's field equals a fresh CHOLMOD analysis and
+   solve of K_t; the steps that change the pattern ran the symbolic analysis
+   on the extended ordering, the others (load changes) only the numeric
+   factorization */
+static void refactor_extended_ordering(int supernodal, unsigned long seed)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, seed);
+    gen g;
+    gen_init(&g, 5, 3, 6, 1.0, r);
+    int sn = cm.supernodal;
+    cm.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = aug_parse_methods("refactor", o.order);
+    o.refine_max = 0; /* the factor's own solve, unrefined */
+    aug_solver *s = make(&g, &o);
+    int numeric_only = 0, analyzed = 0, grew = 0, reordered = 0, kept = 0;
+    for (int t = 1; t <= 24 && s; t++) {
+        aug_update u;
+        int64_t n0 = g.n;
+        next(&g, r, t, &u);
+        aug_err e;
+        int rc = aug_solver_step(s, &u, NULL, 0, 0, &e);
+        aug_update_free(&u);
+        T_CHECK(rc == 0, "step %d: %s", t, e.msg);
+        if (rc) break;
+        const aug_kv *st = aug_solver_stat(s, AUG_M_REFACTOR);
+        double an = aug_kv_get(st, "analyzed", -1), ro = aug_kv_get(st, "reordered", -1);
+        T_CHECK(an == 0 || an == 1, "step %d: analyzed %g", t, an);
+        T_CHECK(ro == 0 || ro == an, "step %d: re-ordered %g without analysis", t, ro);
+        numeric_only += an == 0, analyzed += an == 1, grew += g.n > n0, reordered += ro == 1;
+        kept += aug_kv_get(st, "kept", -1) == 1;
+        double *ref = gen_direct(&g, &cm);
+        T_CHECK(ref != NULL, "step %d: the fresh CHOLMOD solve failed", t);
+        if (!ref) break;
+        double d = reldiff(aug_solver_field(s, AUG_M_REFACTOR), ref, g.n);
+        /* two orderings of one matrix: round-off apart */
+        T_CHECK(d <= 1e-11, "step %d: extended ordering vs fresh analysis %g", t, d);
+        double rr = aug_kv_get(st, "relres", -1);
+        T_CHECK(rr >= 0 && rr <= 1e-12, "step %d: relres %g", t, rr);
+        free(ref);
+    }
+    T_CHECK(grew >= 5 && analyzed >= grew, "%d steps added DOFs, %d analysed", grew, analyzed);
+    T_CHECK(numeric_only >= 1, "no numeric-only step in 24");
+    /* supernodal: the numeric storage kept on most analysed steps */
+    T_CHECK(!supernodal || kept >= 24 - analyzed / 4, "storage kept on %d of 24 steps", kept);
+    /* the extended ordering, re-ordered only past 1.2x fill */
+    T_CHECK(reordered <= analyzed / 4, "%d of %d analyses re-ordered", reordered, analyzed);
+    cm.supernodal = sn;
+    aug_solver_free(s);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
+static void refactor_extended_simplicial(void) { refactor_extended_ordering(0, 61); }
+static void refactor_extended_supernodal(void) { refactor_extended_ordering(1, 62); }
+
 int main(void)
 {
     cholmod_start(&cm);
@@ -371,6 +432,8 @@ int main(void)
     T_RUN(background_singular_step);
     T_RUN(background_failure_reported);
     T_RUN(background_reorders_on_fill);
+    T_RUN(refactor_extended_simplicial);
+    T_RUN(refactor_extended_supernodal);
     cholmod_finish(&cm);
     T_EXIT();
 }
