@@ -19,10 +19,12 @@ static const char *synopsis =
 
 static const char *help =
     "  FILE                 input stream (default: stdin)\n"
-    "  --method LIST        comma list of amps,gmres,refactor,rowupdate,pcg (default amps);\n"
-    "                       the first one's field is written\n"
+    "  --method LIST        comma list of auto,amps,gmres,refactor,rowupdate,pcg (default\n"
+    "                       auto: AMPS or a re-factorization per step by measured cost;\n"
+    "                       not with amps or gmres); the first one's field is written\n"
     "  --check              err_direct: difference to a fresh CHOLMOD solve of K_t\n"
-    "  --background         re-factor in a background thread, swap when done (amps, gmres)\n"
+    "  --background         re-factor in a background thread, swap when done (amps, gmres;\n"
+    "                       auto: lets it choose one)\n"
     "  --bg-lag N           swap exactly N steps after each start (deterministic)\n"
     "  --output all|surface|SET  nodes whose displacement is solved and written\n"
     "  --refine-iter N      exactly N iterative refinement steps per solve (default 0:\n"
@@ -81,7 +83,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     aug_solver_opts *so = &o->so;
     int nlag = 0, nrtol = 0;
     const aug_opt opt[] = {
-        {AUG_OPT_CALL("--method", methods, so, "a comma list of amps,gmres,refactor,rowupdate,pcg")},
+        {AUG_OPT_CALL("--method", methods, so, "a comma list of auto,amps,gmres,refactor,rowupdate,pcg")},
         {AUG_OPT_FLAG("--check", &so->check)},
         {AUG_OPT_FLAG("--time-full", &o->time_full)},
         {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},

@@ -231,3 +231,46 @@ int aug_refactor_solve(aug_refactor *r, const double *rhs, double *x, cholmod_co
     memcpy(x, r->X->x, (size_t)r->n * sizeof *x);
     return 0;
 }
+
+/* K_t factored on the extended ordering (analyze) into a new base
+   (aug_base_new takes the factor: simplicial LDL' for AMPS's sparse solves,
+   the supernodal copy for full back-substitutions, a_b = K_t^-1 f_t): the
+   synchronous re-factorization of --method auto (paper 000 sec. 3.6 done in
+   the foreground). The symbolic factor is not kept: the next call analyses. */
+aug_base *aug_refactor_base(aug_refactor *r, const aug_cutmat *m, int32_t step, double times[4],
+                            cholmod_common *cm, aug_err *e)
+{
+    double t0 = 1e3 * aug_now();
+    r->singular = 0;
+    if (r->L) cholmod_free_factor(&r->L, cm);
+    r->n = 0; /* no pattern kept */
+    cholmod_sparse *K = aug_cutmat_sparse(m, 0, cm);
+    double *f = aug_malloc((size_t)(m->cum.n + 1) * sizeof *f);
+    if (!K || !f) {
+        if (K) cholmod_free_sparse(&K, cm);
+        free(f);
+        aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (K_t)");
+        return NULL;
+    }
+    aug_cutmat_rhs(m, f);
+    double t1 = 1e3 * aug_now();
+    cholmod_factor *L = analyze(r, K, cm);
+    double t2 = 1e3 * aug_now();
+    aug_base *b = NULL;
+    if (!L) {
+        aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_analyze failed");
+    } else if (!cholmod_factorize(K, L, cm) || cm->status == CHOLMOD_NOT_POSDEF || L->minor < L->n) {
+        if (cm->status == CHOLMOD_NOT_POSDEF || L->minor < L->n) r->singular = 1;
+        else aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_factorize failed (%d)", cm->status);
+        cholmod_free_factor(&L, cm);
+    }
+    double t3 = 1e3 * aug_now();
+    if (L) {
+        b = aug_base_new(L, K, f, step, cm, e);
+        if (!b && e->code == AUG_ESINGULAR) r->singular = 1;
+    }
+    cholmod_free_sparse(&K, cm);
+    free(f);
+    times[0] = t1 - t0, times[1] = t2 - t1, times[2] = t3 - t2, times[3] = 1e3 * aug_now() - t3;
+    return b;
+}
