@@ -14,4 +14,5 @@ run memory.sh
 run deform.sh
 run dynamics.sh
 run modal.sh
+run organs.sh
 exit $status
