@@ -144,7 +144,7 @@ set output '$O/organs_brain_phases.png'
 set title 'brain + CSF, AMPS step phases (AMPS fig. 8 analog)'
 set xlabel 'cut step'; set ylabel 'ms'; set style data histograms; set style histogram rowstacked
 set style fill solid 0.8 border -1; set boxwidth 0.9; set key outside
-plot '$T/phases.dat' using 2 title 'reach (V columns)', '' using 3 title 'memo H''K^-1H', \
+plot '$T/phases.dat' using 2:xtic(1) title 'reach (V columns)', '' using 3 title 'memo H''K^-1H', \
      '' using 4 title 'S2 (Schur)', '' using 5 title 'solve', '' using 6 title 'refine + rest', \
      '' using 7 with lines lw 2 title 'one full solve'
 GP
