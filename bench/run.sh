@@ -16,4 +16,5 @@ run dynamics.sh
 run modal.sh
 run blade.sh
 run thesis.sh
+run organs.sh
 exit $status

@@ -20,11 +20,13 @@ static const char *synopsis =
 
 static const char *help =
     "  FILE                 input stream (default: stdin)\n"
-    "  --method LIST        comma list of amps,gmres,refactor,rowupdate,pcg, cgm-cov,\n"
-    "                       cgm-es,cgm-log,cgm-as (default amps); the first one's field\n"
-    "                       is written\n"
+    "  --method LIST        comma list of auto,amps,gmres,refactor,rowupdate,pcg, cgm-cov,\n"
+    "                       cgm-es,cgm-log,cgm-as (default auto: AMPS or a re-factorization\n"
+    "                       per step by measured cost; not with amps or gmres); the first\n"
+    "                       one's field is written\n"
     "  --check              err_direct: difference to a fresh CHOLMOD solve of K_t\n"
-    "  --background         re-factor in a background thread, swap when done (amps, gmres)\n"
+    "  --background         re-factor in a background thread, swap when done (amps, gmres;\n"
+    "                       auto: lets it choose one)\n"
     "  --bg-lag N           swap exactly N steps after each start (deterministic)\n"
     "  --output all|surface|SET  nodes whose displacement is solved and written\n"
     "  --refine-iter N      exactly N iterative refinement steps per solve (default 0:\n"
@@ -92,7 +94,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     int nlag = 0, nrtol = 0, max_n = (int)so->cgm.max_n;
     const aug_opt opt[] = {
         {AUG_OPT_CALL("--method", methods, so,
-                      "a comma list of amps,gmres,refactor,rowupdate,pcg,cgm-cov,cgm-es,cgm-log,cgm-as")},
+                      "a comma list of auto,amps,gmres,refactor,rowupdate,pcg,cgm-cov,cgm-es,cgm-log,cgm-as")},
         {AUG_OPT_FLAG("--check", &so->check)},
         {AUG_OPT_FLAG("--time-full", &o->time_full)},
         {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},

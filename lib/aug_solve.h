@@ -313,17 +313,39 @@ int64_t aug_gmres_closure_h(const aug_gmres *g);
 
 /* ---- baselines --------------------------------------------------------- */
 
-/* refactor.c: CHOLMOD analyze (when the pattern changed) + numeric
-   factorization + solve of K_t. */
+/* refactor.c: CHOLMOD re-factorization of K_t: with an ordering given
+   (aug_refactor_order) the ordering of K0 extended to the new DOFs, analysed
+   anew (no re-ordering) only when the pattern changed and re-ordered by
+   CHOLMOD only past AUG_REFACTOR_FILL times the fill of its last ordering;
+   the factor's memory kept across steps; numeric-only factorization whenever
+   the pattern holds. Without an ordering: cholmod_analyze (a fresh analysis)
+   whenever the pattern changed. */
+#define AUG_REFACTOR_FILL 1.2
 typedef struct aug_refactor {
     cholmod_factor *L;
     int64_t n, nnz;
     int *Kp, *Ki;        /* pattern of the last analyzed matrix */
+    int64_t pcap, icap;
+    int *perm;           /* the ordering to extend (NULL: CHOLMOD's each time) */
+    int64_t nperm;
+    double lnz, lnz_ref; /* nnz(L) now / of CHOLMOD's last ordering */
     int analyzed;        /* 1 if the last step ran the symbolic analysis */
+    int reordered;       /* 1 if it also ran CHOLMOD's ordering */
+    int kept;            /* 1 if the factor's numeric storage was kept */
     int singular;
+    cholmod_dense *X, *Y, *E; /* cholmod_solve2 workspaces */
 } aug_refactor;
 void aug_refactor_init(aug_refactor *r);
 void aug_refactor_free(aug_refactor *r, cholmod_common *cm);
+/* the fill-reducing ordering (perm[k]: original index at position k) of the
+   first n DOFs to extend from now on; 0, or -1 out of memory */
+int aug_refactor_order(aug_refactor *r, const int32_t *perm, int64_t n);
+/* P K_t P' = L L' as in aug_refactor_step (extended ordering), made the
+   base of step (aug_base_new: its simplicial LDL', a_b = K_t^-1 f_t); NULL
+   with r->singular = 1 when K_t is not positive definite (e not set), NULL
+   with e on other failures. times: assemble, analyze, factor, base. */
+aug_base *aug_refactor_base(aug_refactor *r, const aug_cutmat *m, int32_t step, double times[4],
+                            cholmod_common *cm, aug_err *e);
 /* times: assemble, analyze, factor, solve */
 int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double times[4],
                       cholmod_common *cm, aug_err *e);
@@ -463,9 +485,51 @@ int aug_cgm_solve(int variant, const cholmod_sparse *K, const double *f, const a
                   double tol, int maxit, double *x, aug_cgm_res *r, cholmod_common *cm,
                   aug_err *e);
 
+/* auto_policy.c: the cost model of --method auto (the choice per step from
+   the measured times; the session runs the choice and reports it). */
+enum { AUG_AUTO_AMPS, AUG_AUTO_REFACTOR };
+/* reasons (sTAt key reason of tag auto, formats/stream.md 7.4) */
+enum {
+    AUG_AUTO_CHEAPER,      /* AMPS: its growth has cost less than a re-factorization */
+    AUG_AUTO_FIRST,        /* AMPS: a warm-up step on a base (measures it) */
+    AUG_AUTO_BG_RUNNING,   /* AMPS: a background re-factorization is running */
+    AUG_AUTO_BG_START,     /* AMPS, and a background re-factorization starts */
+    AUG_AUTO_STEP,         /* refactor: the next AMPS step costs more than it */
+    AUG_AUTO_AMORTIZED,    /* refactor: the growth has cost more than it */
+    AUG_AUTO_FIRST_DEARER, /* refactor: warm-up AMPS steps cost more than it */
+    AUG_AUTO_SINGULAR,     /* refactor: AMPS called the step singular */
+    AUG_AUTO_SWAPPED       /* AMPS on the background factor swapped in this step */
+};
+/* AMPS steps on a new base that build its state (warm-up); after this many
+   re-factorizations in a row chosen for AUG_AUTO_FIRST_DEARER one base is
+   measured again; the prior of a re-factorization step, in full solves of
+   the base, until one is measured */
+#define AUG_AUTO_WARM 2
+#define AUG_AUTO_PROBE 8
+#define AUG_AUTO_PRIOR 50
+typedef struct aug_auto {
+    int bg_allowed;        /* a second core: background jobs may run */
+    int on_base;           /* AMPS steps on the current base */
+    double a_warm;         /* a warm-up AMPS step (running mean), ms */
+    double warm_sum;       /* the warm-up steps on this base, ms */
+    double t_warm;         /* their excess over a_ref (running mean), ms */
+    double a_ref, a_last;  /* min and last steady AMPS step on the base, ms */
+    double a_min_prev;     /* a_ref of the last base with steady steps, ms */
+    double excess;         /* sum of (a_j - a_ref) on the base, ms */
+    double t_factor;       /* a re-factorization step (running mean), ms; 0: none yet */
+    double t_prior;        /* its prior before one is measured, ms */
+    int nsync_run;         /* re-factorizations in a row for FIRST_DEARER */
+    int choice, reason, want_bg;
+    double est_amps, est_factor; /* the estimates the choice compared */
+} aug_auto;
+void aug_auto_init(aug_auto *a, int bg_allowed);
+int aug_auto_decide(aug_auto *a, int bg_running);
+void aug_auto_observe(aug_auto *a, double ms);
+void aug_auto_rebased(aug_auto *a);
+
 /* ---- the session (solver.c) -------------------------------------------- */
 
-enum { AUG_M_AMPS, AUG_M_GMRES, AUG_M_REFACTOR, AUG_M_ROWUPDATE, AUG_M_PCG,
+enum { AUG_M_AMPS, AUG_M_GMRES, AUG_M_REFACTOR, AUG_M_ROWUPDATE, AUG_M_PCG, AUG_M_AUTO,
        AUG_M_CGM_COV, AUG_M_CGM_ES, AUG_M_CGM_LOG, AUG_M_CGM_AS, AUG_M_COUNT };
 extern const char *const aug_method_names[AUG_M_COUNT];
 /* "amps,gmres,..." into order[] (returns count, -1 on an unknown name). */
@@ -493,6 +557,8 @@ typedef struct aug_solver_opts {
     int dynamic;         /* the matrix is a dynamic stream's A (aug_solver_frame) */
     aug_cgm_opts cgm;    /* the cgm-* methods (thesis 003 sec. 3.5) */
     int pcg_prec;        /* AUG_PCG_NONE, AUG_PCG_JACOBI (default) or AUG_PCG_IC */
+    double auto_prior;   /* auto: the re-factorization time (ms) assumed until one
+                            is measured; 0: AUG_AUTO_PRIOR full solves */
 } aug_solver_opts;
 void aug_solver_opts_default(aug_solver_opts *o);
 

@@ -14,6 +14,7 @@ struct aug_rowupd {
     int64_t ccap;
     unsigned char *pending;
     int64_t spare;
+    cholmod_dense *B, *X, *Y, *E; /* solve workspaces, kept across steps */
 };
 
 static int set_pinv(aug_rowupd *r)
@@ -30,9 +31,10 @@ static int set_pinv(aug_rowupd *r)
 }
 
 /* a simplicial LDL' of blkdiag(K_t, I_spare) by CHOLMOD, with the ordering
-   perm (spares last) or CHOLMOD's own when perm is NULL */
+   perm of the first np indices (the rest, spares among them, last in index
+   order) or CHOLMOD's own when perm is NULL */
 static cholmod_factor *padded_factor(const aug_cutmat *m, int64_t spare, const int32_t *perm,
-                                     cholmod_common *cm)
+                                     int64_t np, cholmod_common *cm)
 {
     cholmod_sparse *K = aug_cutmat_sparse(m, spare, cm);
     if (!K) return NULL;
@@ -44,7 +46,7 @@ static cholmod_factor *padded_factor(const aug_cutmat *m, int64_t spare, const i
             cholmod_free_sparse(&K, cm);
             return NULL;
         }
-        for (int64_t k = 0; k < N; k++) P[k] = k < m->n0 ? perm[k] : (int)k;
+        for (int64_t k = 0; k < N; k++) P[k] = k < np ? perm[k] : (int)k;
     }
     int nm = cm->nmethods, sn = cm->supernodal, ord = cm->method[0].ordering, post = cm->postorder;
     if (P) cm->nmethods = 1, cm->method[0].ordering = CHOLMOD_GIVEN, cm->postorder = 0;
@@ -66,7 +68,7 @@ aug_rowupd *aug_rowupd_new(const aug_cutmat *m, const aug_base *b0, int64_t spar
     aug_rowupd *r = aug_calloc(1, sizeof *r);
     if (!r) goto nomem;
     r->spare = spare > 0 ? spare : 1;
-    r->L = padded_factor(m, r->spare, b0->perm, cm);
+    r->L = padded_factor(m, r->spare, b0->perm, m->n0, cm);
     if (!r->L || set_pinv(r)) goto nomem;
     return r;
 nomem:
@@ -80,13 +82,29 @@ void aug_rowupd_free(aug_rowupd *r, cholmod_common *cm)
     if (!r) return;
     if (r->L) cholmod_free_factor(&r->L, cm);
     free(r->pinv), free(r->idx), free(r->val), free(r->scr), free(r->pending);
+    cholmod_dense **w[] = {&r->B, &r->X, &r->Y, &r->E};
+    for (int i = 0; i < 4; i++)
+        if (*w[i]) cholmod_free_dense(w[i], cm);
     free(r);
 }
 
-/* out of spare rows: factor blkdiag(K_t, I) afresh, simplicial LDL' */
+/* out of spare rows: factor blkdiag(K_t, I) afresh, simplicial LDL', in the
+   current ordering extended (the DOFs added since in their spare positions,
+   new spares last: no re-ordering, as refactor) */
 static int rebuild(aug_rowupd *r, const aug_cutmat *m, cholmod_common *cm)
 {
-    cholmod_factor *L = padded_factor(m, r->spare * 2, NULL, cm);
+    int64_t n = m->cum.n;
+    int32_t *perm = aug_malloc((size_t)(n + 1) * sizeof *perm);
+    if (!perm) return -1;
+    /* the order of the current factor restricted to the DOFs of K_t, those
+       beyond its spares last */
+    int64_t k = 0;
+    const int *P = r->L->Perm;
+    for (int64_t q = 0; q < r->N; q++)
+        if (P[q] < n) perm[k++] = P[q];
+    for (int64_t i = r->N; i < n; i++) perm[k++] = (int32_t)i; /* beyond the spares */
+    cholmod_factor *L = padded_factor(m, r->spare * 2, perm, n, cm);
+    free(perm);
     if (!L) return -2;
     cholmod_free_factor(&r->L, cm);
     r->L = L;
@@ -176,17 +194,19 @@ int aug_rowupd_step(aug_rowupd *r, const aug_cutmat *m, const aug_update *u, dou
     return rc;
 }
 
-/* x = K_t^-1 rhs through blkdiag(K_t, I_spare) (the spare rows of rhs are 0) */
+/* x = K_t^-1 rhs through blkdiag(K_t, I_spare) (the spare rows of rhs are 0),
+   cholmod_solve2 with its workspaces kept */
 int aug_rowupd_solve(aug_rowupd *r, int64_t n, const double *rhs, double *x, cholmod_common *cm,
                      aug_err *e)
 {
-    cholmod_dense *B = cholmod_zeros((size_t)r->N, 1, CHOLMOD_REAL, cm);
-    if (!B) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-    memcpy(B->x, rhs, (size_t)n * sizeof *rhs); /* spare rows: 0 */
-    cholmod_dense *X = cholmod_solve(CHOLMOD_A, r->L, B, cm);
-    cholmod_free_dense(&B, cm);
-    if (!X) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_solve failed");
-    memcpy(x, X->x, (size_t)n * sizeof *x);
-    cholmod_free_dense(&X, cm);
+    if (r->B && r->B->nrow != (size_t)r->N) cholmod_free_dense(&r->B, cm);
+    if (!r->B && !(r->B = cholmod_zeros((size_t)r->N, 1, CHOLMOD_REAL, cm)))
+        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    double *b = r->B->x;
+    memcpy(b, rhs, (size_t)n * sizeof *rhs);
+    memset(b + n, 0, (size_t)(r->N - n) * sizeof *b); /* spare rows: 0 */
+    if (!cholmod_solve2(CHOLMOD_A, r->L, r->B, NULL, &r->X, NULL, &r->Y, &r->E, cm))
+        return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_solve failed");
+    memcpy(x, r->X->x, (size_t)n * sizeof *x);
     return 0;
 }

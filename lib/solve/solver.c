@@ -6,7 +6,7 @@
 #include "aug_solve.h"
 
 const char *const aug_method_names[AUG_M_COUNT] = {"amps", "gmres", "refactor", "rowupdate", "pcg",
-                                                   "cgm-cov", "cgm-es", "cgm-log", "cgm-as"};
+                                                   "auto", "cgm-cov", "cgm-es", "cgm-log", "cgm-as"};
 
 int aug_parse_methods(const char *s, int order[AUG_M_COUNT])
 {
@@ -33,7 +33,7 @@ void aug_solver_opts_default(aug_solver_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->nmeth = 1;
-    o->order[0] = AUG_M_AMPS;
+    o->order[0] = AUG_M_AUTO;
     o->tol = 1e-8;
     o->maxit = 10000;
     o->restart = 100;
@@ -79,6 +79,11 @@ struct aug_solver {
     int chk_ok, amps_fb_ok, prepped;
     aug_cgm_res cgm[AUG_CGM_COUNT]; /* the cgm-* methods' figures of the step */
     double pcg_shift;               /* pcg --pcg-prec ic: the IC(0) shift used */
+    /* --method auto: its cost model and re-factorizations (AMPS on the
+       session's base, which it re-factors) */
+    aug_auto au;
+    aug_refactor au_rf;
+    int au_swapped;      /* the background factor became the base this step */
 };
 
 aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
@@ -96,6 +101,7 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     aug_refactor_init(&s->rf);
     aug_refactor_init(&s->chk);
     aug_refactor_init(&s->amps_fb);
+    aug_refactor_init(&s->au_rf);
     s->amps.memo.use_cholmod = o->reach_cholmod;
     s->amps.schur.want_rcond = o->check; /* a diagnostic: O(na^2) per step */
     for (int i = 0; i < o->nmeth; i++) s->use[o->order[i]] = 1;
@@ -118,6 +124,25 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     }
     s->base = aug_base_new(L0, K0, f0, -1, cm, e);
     if (!s->base || aug_cum_init(&s->cum, s->base->n, e)) goto fail;
+    if (s->use[AUG_M_AUTO] && (s->use[AUG_M_AMPS] || s->use[AUG_M_GMRES])) {
+        aug_err_set(e, AUG_EUSAGE, -1, "", "--method auto re-factors the base of amps and gmres: run it apart");
+        goto fail;
+    }
+    if (s->use[AUG_M_AUTO]) {
+        /* a background job needs a free core: --background or --threads >= 2 */
+        aug_auto_init(&s->au, o->background || o->nthreads >= 2);
+        s->au.t_prior = o->auto_prior > 0 ? o->auto_prior : AUG_AUTO_PRIOR * aug_solver_full_solve_ms(s, 3);
+        if (!(s->au.t_prior > 0)) s->au.t_prior = 0;
+        if (aug_refactor_order(&s->au_rf, s->base->perm, s->base->n)) {
+            aug_err_set(e, AUG_ENOMEM, -1, "FACT", "out of memory");
+            goto fail;
+        }
+    }
+    /* refactor extends the ordering of K0 (README: the baselines' configuration) */
+    if (s->use[AUG_M_REFACTOR] && aug_refactor_order(&s->rf, s->base->perm, s->base->n)) {
+        aug_err_set(e, AUG_ENOMEM, -1, "FACT", "out of memory");
+        goto fail;
+    }
     if (s->use[AUG_M_GMRES]) {
         s->gm = aug_gmres_new(o->gmres_prec, o->restart, o->maxit, o->tol, e);
         if (!s->gm || aug_gmres_set_base(s->gm, s->base, s->cut.K0, e)) goto fail;
@@ -126,7 +151,8 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
         s->ru = aug_rowupd_new(&s->cut, s->base, o->spare, cm, e);
         if (!s->ru) goto fail;
     }
-    if (o->background && (s->use[AUG_M_AMPS] || s->use[AUG_M_GMRES])) {
+    if ((o->background && (s->use[AUG_M_AMPS] || s->use[AUG_M_GMRES])) ||
+        (s->use[AUG_M_AUTO] && s->au.bg_allowed)) {
         s->bg = aug_bg_new(o->nthreads);
         if (!s->bg) {
             aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
@@ -148,6 +174,7 @@ void aug_solver_free(aug_solver *s)
     aug_refactor_free(&s->rf, s->cm);
     aug_refactor_free(&s->chk, s->cm);
     aug_refactor_free(&s->amps_fb, s->cm);
+    aug_refactor_free(&s->au_rf, s->cm);
     if (s->pcg_K) cholmod_free_sparse(&s->pcg_K, s->cm);
     aug_rowupd_free(s->ru, s->cm);
     aug_base_release(s->base, s->cm);
@@ -392,7 +419,10 @@ static int refactor_solve(aug_solver *s, const double *b, double *x, aug_err *e)
 
 static void refactor_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
 {
-    if (r->ran) put(st, "analyzed", s->rf.analyzed);
+    if (r->ran)
+        put(st, "analyzed", s->rf.analyzed), put(st, "reordered", s->rf.reordered),
+            put(st, "kept", s->rf.kept),
+            put(st, "lnz", s->rf.lnz);
     cut_size(s, st);
     if (r->ran)
         put(tm, "assemble", r->t[0]), put(tm, "analyze", r->t[1]), put(tm, "factor", r->t[2]),
@@ -497,6 +527,64 @@ static void es_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv 
 static void log_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm) { cgm_stats(s, AUG_CGM_LOG, r, st, tm); }
 static void as_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm) { cgm_stats(s, AUG_CGM_AS, r, st, tm); }
 
+/* --method auto: the step by the choice of the cost model (auto_policy.c),
+   AMPS on the base or a synchronous re-factorization of K_t that becomes the
+   base (aug_refactor_base; also when AMPS calls S2 singular); the background
+   job, when the model asks for it, starts after the step */
+static int auto_rebase(aug_solver *s, step_res *r, aug_err *e)
+{
+    aug_base *nb = aug_refactor_base(&s->au_rf, &s->cut, s->step, r->t, s->cm, e);
+    if (!nb) {
+        if (!s->au_rf.singular) return e->code;
+        r->sing = 1;
+        return 0;
+    }
+    aug_base_release(s->base, s->cm);
+    s->base = nb;
+    aug_cum_free(&s->cum);
+    int wr = s->amps.schur.want_rcond, uc = s->amps.memo.use_cholmod;
+    aug_amps_free(&s->amps);
+    aug_amps_init(&s->amps);
+    s->amps.schur.want_rcond = wr, s->amps.memo.use_cholmod = uc;
+    if (aug_cum_init(&s->cum, nb->n, e)) return e->code;
+    memcpy(r->x, nb->a, (size_t)nb->n * sizeof *r->x);
+    return 0;
+}
+
+static int auto_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
+{
+    int bgr = s->bg && aug_bg_running(s->bg);
+    if (aug_auto_decide(&s->au, bgr) == AUG_AUTO_AMPS) {
+        if (s->au_swapped) s->au.reason = AUG_AUTO_SWAPPED;
+        int rc = amps_step(s, q, r, e);
+        if (rc || !r->sing || bgr) return rc; /* singular with a job running: the fallback */
+        s->au.choice = AUG_AUTO_REFACTOR, s->au.reason = AUG_AUTO_SINGULAR;
+        r->sing = 0;
+    }
+    return auto_rebase(s, r, e);
+}
+
+static void auto_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv *tm)
+{
+    const aug_auto *a = &s->au;
+    if (!r->ran) return;
+    put(st, "choice", a->choice);
+    put(st, "reason", a->reason);
+    put(st, "on_base", a->on_base);
+    put(st, "est_amps_ms", a->est_amps);
+    put(st, "est_factor_ms", a->est_factor);
+    put(st, "excess_ms", a->excess);
+    put(st, "bg_start", a->want_bg);
+    if (a->choice == AUG_AUTO_AMPS) {
+        amps_stats(s, r, st, tm);
+    } else {
+        put(st, "reordered", s->au_rf.reordered);
+        put(st, "lnz", s->au_rf.lnz);
+        put(tm, "assemble", r->t[0]), put(tm, "analyze", r->t[1]), put(tm, "factor", r->t[2]),
+            put(tm, "base", r->t[3]);
+    }
+}
+
 static const method methods[AUG_M_COUNT] = {
     [AUG_M_AMPS] = {amps_step, amps_solve, amps_stats, M_DIRECT | M_BASED | M_TARGET, amps_prep},
     [AUG_M_GMRES] = {gmres_step, gmres_solve, gmres_stats, M_BASED, gmres_prep},
@@ -507,6 +595,7 @@ static const method methods[AUG_M_COUNT] = {
     [AUG_M_CGM_ES] = {es_step, NULL, es_stats, 0, NULL},
     [AUG_M_CGM_LOG] = {log_step, NULL, log_stats, 0, NULL},
     [AUG_M_CGM_AS] = {as_step, NULL, as_stats, 0, NULL},
+    [AUG_M_AUTO] = {auto_step, amps_solve, auto_stats, M_DIRECT | M_BASED | M_TARGET, amps_prep},
 };
 
 /* ---- one step of the session ---- */
@@ -621,6 +710,7 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
         if (nref) put(tm, "refine", 1e3 * aug_now() - tr);
     }
     double total = 1e3 * aug_now() - t0;
+    if (m == AUG_M_AUTO && r.ran) aug_auto_observe(&s->au, total);
     put(st, "iters", r.iters);
     put(st, "refine", nref);
     if (!r.sing && !q->full && (op->flags & M_BASED) && (rc = fill_rest(s, op, q, r.x, e))) return rc;
@@ -632,7 +722,7 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
     /* AMPS calls K_t singular where S2 is too ill-conditioned (nu -> 0.5):
        a fresh CHOLMOD factorization of K_t decides; when it is positive
        definite its solution is the step's, and sTAt says so (fallback 1) */
-    if (r.sing && !detached && m == AUG_M_AMPS) {
+    if (r.sing && !detached && (m == AUG_M_AMPS || m == AUG_M_AUTO)) {
         double tf = 1e3 * aug_now();
         int fs = fallback(s, r.x, &rr, e);
         if (fs < 0) return e->code;
@@ -696,7 +786,7 @@ static int start_background(aug_solver *s, int unsolved, aug_err *e)
     }
     memcpy(perm, s->base->perm, (size_t)nb * sizeof *perm);
     for (int64_t i = nb; i < nk; i++) perm[i] = (int32_t)i;
-    int amps = s->use[AUG_M_AMPS] ? 1 + s->o.reach_cholmod : 0;
+    int amps = s->use[AUG_M_AMPS] || s->use[AUG_M_AUTO] ? 1 + s->o.reach_cholmod : 0;
     int rc = aug_bg_start(s->bg, K, s->f, perm, s->step, amps, e);
     free(perm);
     if (rc) {
@@ -760,7 +850,7 @@ static int prep_method(aug_solver *s, int m, const step_req *q, int swapped, aug
     if ((rc = op->prep ? op->prep(s, q, &r, e) : op->step(s, q, &r, e))) return rc;
     op->stats(s, &r, st, tm);
     s->amps_fb_ok = 0;
-    if (m == AUG_M_AMPS && r.sing) {
+    if ((m == AUG_M_AMPS || m == AUG_M_AUTO) && r.sing) {
         aug_refactor_free(&s->amps_fb, s->cm);
         aug_refactor_init(&s->amps_fb);
         double t[4];
@@ -887,6 +977,7 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
     aug_cutmat_rhs(&s->cut, s->f);
     int swapped, rc;
     if ((rc = join_background(s, &swapped, e))) return rc;
+    if ((s->au_swapped = swapped && s->use[AUG_M_AUTO])) aug_auto_rebased(&s->au);
     if (aug_cum_apply(&s->cum, u, e)) return e->code;
     if (s->bg && aug_bg_running(s->bg) && aug_bg_push(s->bg, u, e)) return e->code;
     if (s->o.dynamic) return dynamic_step(s, u, swapped, e);
@@ -899,6 +990,8 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
         unsolved |= !s->converged[s->o.order[oi]];
     }
     if (s->o.check && (rc = check_direct(s, e))) return rc;
-    if (s->bg && !aug_bg_running(s->bg)) return start_background(s, unsolved, e);
+    /* auto starts a job only when its cost model asks for one */
+    if (s->bg && !aug_bg_running(s->bg) && (!s->use[AUG_M_AUTO] || s->au.want_bg))
+        return start_background(s, unsolved, e);
     return 0;
 }

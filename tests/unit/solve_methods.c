@@ -3,7 +3,9 @@
    background swaps give the same fields; iterative refinement is counted;
    a singular step is reported by every method; a failed background
    re-factorization is an error unless a method already reported its step;
-   a background job orders K anew when the given ordering fills too much. */
+   a background job orders K anew when the given ordering fills too much;
+   refactor on the extended ordering of K0 equals a fresh analysis; auto
+   equals a fresh solve whatever it chose. */
 #include "t.h"
 #include "solve_gen.h"
 
@@ -83,7 +85,7 @@ static void run_methods(int prec, unsigned long seed, int nsteps)
         T_CHECK(aug_solver_n(s) == g.n, "order %lld vs %lld", (long long)aug_solver_n(s), (long long)g.n);
         /* no step of these sequences is singular: the reference must factor */
         T_CHECK(ref != NULL, "step %d: the reference CHOLMOD solve of K_t failed", t);
-        for (int m = 0; m < AUG_M_COUNT && ref; m++) {
+        for (int m = 0; m < AUG_M_AUTO && ref; m++) {
             T_CHECK(!aug_solver_singular(s, m), "step %d %s: singular", t, aug_method_names[m]);
             T_CHECK(aug_solver_converged(s, m), "step %d %s: not converged", t, aug_method_names[m]);
             double d = reldiff(aug_solver_field(s, m), ref, g.n);
@@ -213,7 +215,7 @@ static void singular_reported(void)
     aug_err e;
     T_CHECK(aug_solver_step(s, &u, NULL, 0, 0, &e) == 0, "%s", e.msg);
     aug_update_free(&u);
-    for (int m = 0; m < AUG_M_COUNT; m++) {
+    for (int m = 0; m < AUG_M_AUTO; m++) {
         if (m == AUG_M_GMRES || m == AUG_M_PCG) {
             /* iterative: singular or not converged, never a converged number */
             T_CHECK(aug_solver_singular(s, m) || !aug_solver_converged(s, m), "%s converged on a singular K",
@@ -357,6 +359,147 @@ static void background_reorders_on_fill(void)
     gsl_rng_free(r);
 }
 
+/* refactor with the ordering of K0 extended to the new DOFs (lib/solve/
+   refactor.c), simplicial and supernodal (its numeric storage handed from
+   factor to factor): every step's field equals a fresh CHOLMOD analysis and
+   solve of K_t; the steps that change the pattern ran the symbolic analysis
+   on the extended ordering, the others (load changes) only the numeric
+   factorization */
+static void refactor_extended_ordering(int supernodal, unsigned long seed)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, seed);
+    gen g;
+    gen_init(&g, 5, 3, 6, 1.0, r);
+    int sn = cm.supernodal;
+    cm.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = aug_parse_methods("refactor", o.order);
+    o.refine_max = 0; /* the factor's own solve, unrefined */
+    aug_solver *s = make(&g, &o);
+    int numeric_only = 0, analyzed = 0, grew = 0, reordered = 0, kept = 0;
+    for (int t = 1; t <= 24 && s; t++) {
+        aug_update u;
+        int64_t n0 = g.n;
+        next(&g, r, t, &u);
+        aug_err e;
+        int rc = aug_solver_step(s, &u, NULL, 0, 0, &e);
+        aug_update_free(&u);
+        T_CHECK(rc == 0, "step %d: %s", t, e.msg);
+        if (rc) break;
+        const aug_kv *st = aug_solver_stat(s, AUG_M_REFACTOR);
+        double an = aug_kv_get(st, "analyzed", -1), ro = aug_kv_get(st, "reordered", -1);
+        T_CHECK(an == 0 || an == 1, "step %d: analyzed %g", t, an);
+        T_CHECK(ro == 0 || ro == an, "step %d: re-ordered %g without analysis", t, ro);
+        numeric_only += an == 0, analyzed += an == 1, grew += g.n > n0, reordered += ro == 1;
+        kept += aug_kv_get(st, "kept", -1) == 1;
+        double *ref = gen_direct(&g, &cm);
+        T_CHECK(ref != NULL, "step %d: the fresh CHOLMOD solve failed", t);
+        if (!ref) break;
+        double d = reldiff(aug_solver_field(s, AUG_M_REFACTOR), ref, g.n);
+        /* two orderings of one matrix: round-off apart */
+        T_CHECK(d <= 1e-11, "step %d: extended ordering vs fresh analysis %g", t, d);
+        double rr = aug_kv_get(st, "relres", -1);
+        T_CHECK(rr >= 0 && rr <= 1e-12, "step %d: relres %g", t, rr);
+        free(ref);
+    }
+    T_CHECK(grew >= 5 && analyzed >= grew, "%d steps added DOFs, %d analysed", grew, analyzed);
+    T_CHECK(numeric_only >= 1, "no numeric-only step in 24");
+    /* supernodal: the numeric storage kept on most analysed steps */
+    T_CHECK(!supernodal || kept >= 24 - analyzed / 4, "storage kept on %d of 24 steps", kept);
+    /* the extended ordering, re-ordered only past 1.2x fill */
+    T_CHECK(reordered <= analyzed / 4, "%d of %d analyses re-ordered", reordered, analyzed);
+    cm.supernodal = sn;
+    aug_solver_free(s);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
+static void refactor_extended_simplicial(void) { refactor_extended_ordering(0, 61); }
+static void refactor_extended_supernodal(void) { refactor_extended_ordering(1, 62); }
+
+/* --method auto (lib/solve/auto_policy.c): whatever it chose on a step (AMPS
+   on its base, a re-factorization that becomes the base, AMPS beside a
+   background job), the field equals a fresh CHOLMOD solve of K_t; a tiny
+   re-factorization prior makes it re-factor right after the warm-up, so both
+   choices occur; the reported reason belongs to the choice */
+static void auto_equals_fresh(int background, unsigned long seed)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, seed);
+    gen g;
+    gen_init(&g, 4, 3, 6, 1.0, r);
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    T_CHECK(o.nmeth == 1 && o.order[0] == AUG_M_AUTO, "auto is not the default");
+    o.auto_prior = 1e-9, o.background = background, o.check = 1;
+    aug_solver *s = make(&g, &o);
+    int nchoice[2] = {0, 0}, base_step = -1;
+    for (int t = 1; t <= 30 && s; t++) {
+        aug_update u;
+        next(&g, r, t, &u);
+        aug_err e;
+        int rc = aug_solver_step(s, &u, NULL, 0, 0, &e);
+        aug_update_free(&u);
+        T_CHECK(rc == 0, "step %d: %s", t, e.msg);
+        if (rc) break;
+        const aug_kv *st = aug_solver_stat(s, AUG_M_AUTO);
+        int c = (int)aug_kv_get(st, "choice", -1), why = (int)aug_kv_get(st, "reason", -1);
+        T_CHECK(c == AUG_AUTO_AMPS || c == AUG_AUTO_REFACTOR, "step %d: choice %d", t, c);
+        if (c != AUG_AUTO_AMPS && c != AUG_AUTO_REFACTOR) break;
+        nchoice[c]++;
+        int amps_reason = why == AUG_AUTO_CHEAPER || why == AUG_AUTO_FIRST || why == AUG_AUTO_BG_RUNNING ||
+                          why == AUG_AUTO_BG_START || why == AUG_AUTO_SWAPPED;
+        T_CHECK(amps_reason == (c == AUG_AUTO_AMPS), "step %d: reason %d for choice %d", t, why, c);
+        /* the base is the step's matrix after a re-factorization, unchanged by
+           an AMPS step (but for a background swap) */
+        int bs = (int)aug_kv_get(st, "base_step", -2), sw = (int)aug_kv_get(st, "swapped", -1);
+        T_CHECK(c == AUG_AUTO_REFACTOR ? bs == t : sw == 1 || bs == base_step, "step %d: choice %d, base step %d (was %d)",
+                t, c, bs, base_step);
+        base_step = bs;
+        double *ref = gen_direct(&g, &cm);
+        T_CHECK(ref != NULL, "step %d: the fresh CHOLMOD solve failed", t);
+        if (!ref) break;
+        T_CHECK(!aug_solver_singular(s, AUG_M_AUTO), "step %d: singular", t);
+        double d = reldiff(aug_solver_field(s, AUG_M_AUTO), ref, g.n);
+        T_CHECK(d <= 1e-10, "step %d (choice %d, reason %d): auto vs fresh solve %g", t, c, why, d);
+        double rr = aug_kv_get(st, "relres", -1);
+        T_CHECK(rr >= 0 && rr <= 1e-11, "step %d: relres %g", t, rr);
+        free(ref);
+    }
+    T_CHECK(nchoice[0] >= 2 && nchoice[1] >= 1, "choices: %d AMPS, %d re-factorizations", nchoice[0], nchoice[1]);
+    aug_solver_free(s);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
+static void auto_foreground(void) { auto_equals_fresh(0, 71); }
+static void auto_background(void) { auto_equals_fresh(1, 72); }
+
+/* auto re-factors the base amps and gmres would share: refused with them */
+static void auto_apart(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 73);
+    gen g;
+    gen_init(&g, 3, 3, 4, 1.0, r);
+    aug_solver_opts o;
+    aug_solver_opts_default(&o);
+    o.nmeth = aug_parse_methods("auto,amps", o.order);
+    T_CHECK(o.nmeth == 2, "auto,amps did not parse");
+    cholmod_sparse *K0 = gen_sparse(&g, &cm);
+    cholmod_factor *L0 = cholmod_analyze(K0, &cm);
+    cholmod_factorize(K0, L0, &cm);
+    aug_err e;
+    aug_solver *s = aug_solver_new(K0, g.f, L0, &o, &cm, &e);
+    T_CHECK(s == NULL && strstr(e.msg, "auto"), "auto,amps accepted");
+    aug_solver_free(s);
+    cholmod_free_sparse(&K0, &cm);
+    gen_free(&g);
+    gsl_rng_free(r);
+}
+
 int main(void)
 {
     cholmod_start(&cm);
@@ -371,6 +514,11 @@ int main(void)
     T_RUN(background_singular_step);
     T_RUN(background_failure_reported);
     T_RUN(background_reorders_on_fill);
+    T_RUN(refactor_extended_simplicial);
+    T_RUN(refactor_extended_supernodal);
+    T_RUN(auto_foreground);
+    T_RUN(auto_background);
+    T_RUN(auto_apart);
     cholmod_finish(&cm);
     T_EXIT();
 }

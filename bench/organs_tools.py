@@ -1,0 +1,86 @@
+"""Helpers of bench/organs.sh.
+  organs_tools.py box MSH
+      "x0 y0 z0 x1 y1 z1": the bounding box of the nodes of a gmsh MSH 4.1 file
+  organs_tools.py summary SCENE KIND OUT CSV...
+      per method of the stats --csv files (one solve-aug run each, the method
+      renamed by the file's suffix _NAME.csv): steps, median step, median full
+      solve timed next to it, their ratio, the ratio to the best fixed method
+      (every method but auto) and to auto, max and median relres and max
+      relres over refactor's, steps refined, auto's re-factorizations and
+      background swaps; rows appended to OUT (header when OUT is empty)"""
+import csv, math, os, statistics, sys
+
+COLS = ("scene,kind,n,method,steps,median_ms,full_solve_ms,ratio_full,ratio_best_fixed,ratio_auto,"
+        "max_relres,median_relres,relres_over_refactor,refined_steps,refactor_steps,swaps")
+
+
+def box(path):
+    lo, hi = [math.inf] * 3, [-math.inf] * 3
+    with open(path) as f:
+        for line in f:
+            if line.startswith("$Nodes"):
+                break
+        nblocks = int(f.readline().split()[0])
+        for _ in range(nblocks):
+            _, _, param, cnt = map(int, f.readline().split())
+            for _ in range(cnt):
+                f.readline()
+            for _ in range(cnt):
+                p = list(map(float, f.readline().split()[:3]))
+                for d in range(3):
+                    lo[d], hi[d] = min(lo[d], p[d]), max(hi[d], p[d])
+    print(" ".join("%.9g" % v for v in lo + hi))
+
+
+def num(r, k):
+    try:
+        return float(r.get(k, ""))
+    except ValueError:
+        return math.nan
+
+
+def summary(scene, kind, out, files):
+    runs = {}
+    n = ""
+    for path in files:
+        name = os.path.basename(path)[:-4].rsplit("_", 1)[-1]
+        rows = list(csv.DictReader(open(path)))
+        for r in rows:
+            if r["method"] == "factor" and not n:
+                n = r.get("n", "")
+        rs = [r for r in rows if r["method"] not in ("factor", "")]
+        if rs:
+            runs[name] = rs
+    med = {m: statistics.median(num(r, "time_ms") for r in rs) for m, rs in runs.items()}
+    fixed = [v for m, v in med.items() if not m.startswith("auto")]
+    best = min(fixed) if fixed else math.nan
+    rref = max((num(r, "relres") for r in runs.get("refactor", [])), default=math.nan)
+    new = not os.path.exists(out) or os.path.getsize(out) == 0
+    with open(out, "a") as f:
+        if new:
+            f.write(COLS + "\n")
+        for m, rs in runs.items():
+            full = [num(r, "full_solve_ms") for r in rs if not math.isnan(num(r, "full_solve_ms"))]
+            full = statistics.median(full) if full else math.nan
+            rr = [num(r, "relres") for r in rs if not math.isnan(num(r, "relres"))]
+            mx = max(rr) if rr else math.nan
+            refined = sum(1 for r in rs if num(r, "refine") > 0)
+            refac = sum(1 for r in rs if num(r, "choice") == 1)
+            swaps = sum(1 for r in rs if num(r, "swapped") == 1)
+            f.write("%s,%s,%s,%s,%d,%.4g,%.4g,%.4g,%.4g,%.4g,%.3g,%.3g,%.3g,%d,%d,%d\n" % (
+                scene, kind, n, m, len(rs), med[m], full, med[m] / full if full else math.nan,
+                med[m] / best, med[m] / med["auto"] if "auto" in med else math.nan, mx,
+                statistics.median(rr) if rr else math.nan, mx / rref if rref > 0 else math.nan,
+                refined, refac, swaps))
+
+
+def main():
+    if len(sys.argv) >= 3 and sys.argv[1] == "box":
+        box(sys.argv[2])
+    elif len(sys.argv) >= 6 and sys.argv[1] == "summary":
+        summary(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5:])
+    else:
+        sys.exit(__doc__)
+
+
+main()
