@@ -94,6 +94,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_REAL("--fail-tol", &so->fail_tol, 0, 1, "a number in [0, 1)"), .flags = AUG_OPT_HI_OPEN},
         {AUG_OPT_REAL("--amps-target", &so->amps_target, 0, 1, "a number in [0, 1)"),
          .flags = AUG_OPT_HI_OPEN},
+        {AUG_OPT_INT("--amps-correct", &so->amps_correct, 0, 10, "0 to 10")},
         {AUG_OPT_REAL("--tol", &so->tol, 0, 1, "a number in (0, 1)"),
          .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
         {AUG_OPT_INT("--maxit", &so->maxit, 1, 100000000, "a count >= 1")},

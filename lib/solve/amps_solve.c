@@ -2,8 +2,55 @@
    3.21 (with loads changed on H) and the solution by eq. 3.20 (sec. 3.1),
    back-substituting only over the closure of the requested DOFs (paper 000 thm 2). */
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 #include "aug_solve.h"
+
+/* workspace of correct_on_h, sized for K_t of order n with |S| = ns */
+typedef struct aug_hcorr {
+    int64_t ncap, scap;
+    int32_t *pat, *cl, *qa;  /* pattern of H's rows (n), its closure in L', A index of a position */
+    unsigned char *mark;     /* n bytes, zero between uses */
+    double *xt;              /* K_t-sized values on the pattern */
+    double *r, *ka, *rh, *ew, *x0, *w0; /* S-sized */
+} aug_hcorr;
+
+static void hcorr_free(aug_hcorr *h)
+{
+    if (!h) return;
+    free(h->pat), free(h->cl), free(h->qa), free(h->mark), free(h->xt);
+    free(h->r), free(h->ka), free(h->rh), free(h->ew), free(h->x0), free(h->w0);
+    free(h);
+}
+
+static aug_hcorr *hcorr_get(aug_amps *a, int64_t n, int64_t ns)
+{
+    aug_hcorr *h = a->hc;
+    if (!h && !(h = a->hc = aug_calloc(1, sizeof *h))) return NULL;
+    if (h->ncap < n + 1) {
+        free(h->pat), free(h->cl), free(h->mark), free(h->xt);
+        h->pat = aug_malloc((size_t)(n + 1) * sizeof *h->pat);
+        h->cl = aug_malloc((size_t)(n + 1) * sizeof *h->cl);
+        h->mark = aug_calloc((size_t)(n + 1), 1);
+        h->xt = aug_malloc((size_t)(n + 1) * sizeof *h->xt);
+        h->ncap = h->pat && h->cl && h->mark && h->xt ? n + 1 : 0;
+        if (!h->ncap) return NULL;
+    }
+    if (h->scap < ns + 1) {
+        double **v[] = {&h->r, &h->ka, &h->rh, &h->ew, &h->x0, &h->w0};
+        free(h->qa);
+        h->qa = aug_malloc((size_t)(ns + 1) * sizeof *h->qa);
+        int ok = h->qa != NULL;
+        for (size_t k = 0; k < sizeof v / sizeof *v; k++) {
+            free(*v[k]);
+            *v[k] = aug_malloc((size_t)(ns + 1) * sizeof **v[k]);
+            ok = ok && *v[k];
+        }
+        h->scap = ok ? ns + 1 : 0;
+        if (!ok) return NULL;
+    }
+    return h;
+}
 
 void aug_amps_init(aug_amps *a)
 {
@@ -31,6 +78,7 @@ void aug_amps_free(aug_amps *a)
     free(a->mark);
     free(a->ca);
     free(a->t2);
+    hcorr_free(a->hc);
     memset(a, 0, sizeof *a);
 }
 
@@ -95,6 +143,105 @@ static void v_times(const aug_amps *a, const aug_base *b, const double *wp, doub
     aug_ldl_dsolve(b, NULL, 0, y);
 }
 
+/* x (permuted, n_b) := the base part of [a_b; 0] + Kbar^-1 P_S wp on the
+   set set[0..k) closed in L': y = D^-1 V wp (v_times), then L^-T over the set
+   only (paper 000 thm 2: a closed set's values need nothing outside it) */
+static void closure_field(const aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
+                          int64_t k, double *y)
+{
+    v_times(a, b, wp, y);
+    aug_ldl_ltsolve_closure_super(b, set, k, y, a->t2);
+}
+
+/* componentwise backward error componentwise threshold of the correction: a
+   few units of rounding, about what a fresh factorization of K_t leaves */
+#define BERR_OK 4e-16
+
+/* Correction of a2 and wp = dF + Ebar a2 on the small system (paper 001 eq.
+   3.8 with a residual right-hand side; issue 15 item 1). AMPS's field
+   x = [a_b; 0] + Kbar^-1 P_S wp satisfies every row of K_t outside S to the
+   rounding of one back-substitution, so its residual r = f_t - K_t x lives
+   on the rows of S: there S2 and the back-substitution disagree by the
+   rounding of H'K^-1H = V'D^-1V, amplified by cond(S2). x is needed only on
+   the pattern of those rows, which the back-substitution gives over the
+   closure of that pattern in L' (the top of the elimination tree), not all
+   of L. With r on S, K_t^-1 P_S r = Kbar^-1 P_S (r + Ebar dz), S2 dz = Gbar r
+   (eqs. 3.8 and 3.15 for the right-hand side P_S r): a2 += dz, wp += r +
+   Ebar dz. A sweep is taken while the componentwise backward error
+   max_i |r_i| / (|K_t| |x| + |f_t|)_i on those rows ([Higham] eq. 7.7) exceeds
+   BERR_OK, at most correct_max times; one that does not lower it is undone,
+   one that does not halve it is the last. Sets ncorrect, berr_h0, berr_h. */
+static int correct_on_h(aug_amps *a, const aug_base *b, const aug_cum *c, double *x, double *wp)
+{
+    a->ncorrect = 0;
+    a->berr_h0 = a->berr_h = NAN;
+    const aug_schur *s = &a->schur;
+    const aug_memo *M = &a->memo;
+    int64_t ns = c->ns, na = s->na;
+    if (!a->kt || a->correct_max <= 0 || ns == 0) return 0;
+    aug_hcorr *h = hcorr_get(a, c->n, ns);
+    if (!h) return -1;
+    /* the rows of S, their pattern, its base DOFs' closure in L' */
+    int64_t np = aug_cutmat_pattern(a->kt, c->S, ns, h->pat, h->mark), k = 0;
+    for (int64_t t = 0; t < np; t++)
+        if (h->pat[t] < c->nb) h->cl[k++] = b->pinv[h->pat[t]];
+    memcpy(a->ca, h->cl, (size_t)k * sizeof *h->cl);
+    int64_t ncl = aug_ldl_closure(b, a->ca, k, h->cl, a->mark);
+    for (int64_t p = 0; p < ns; p++) h->qa[p] = -1;
+    for (int64_t aq = 0; aq < na; aq++) h->qa[s->A[aq]] = (int32_t)aq;
+    double prev = INFINITY;
+    for (int it = 0;; it++) {
+        double *y = a->y;
+        closure_field(a, b, wp, h->cl, ncl, y);
+        for (int64_t t = 0; t < np; t++) {
+            int32_t i = h->pat[t];
+            if (i < c->nb) {
+                h->xt[i] = b->a[i] + y[b->pinv[i]];
+            } else {
+                int32_t p = c->pos[i], aq = h->qa[p];
+                h->xt[i] = aq >= 0 ? x[aq] : c->dF[p];
+            }
+        }
+        aug_cutmat_rows_residual(a->kt, c->S, ns, h->xt, h->r, h->ka);
+        double berr = 0;
+        for (int64_t p = 0; p < ns; p++) {
+            double q = h->ka[p] > 0 ? fabs(h->r[p]) / h->ka[p] : fabs(h->r[p]) > 0 ? INFINITY : 0;
+            if (q > berr) berr = q;
+        }
+        if (it == 0) a->berr_h0 = berr;
+        if (berr > prev) { /* the last sweep made it worse: undone */
+            memcpy(x, h->x0, (size_t)na * sizeof *x);
+            memcpy(wp, h->w0, (size_t)ns * sizeof *wp);
+            a->ncorrect--;
+            a->berr_h = prev;
+            break;
+        }
+        a->berr_h = berr;
+        if (berr <= BERR_OK || it == a->correct_max || (it > 0 && berr > 0.9 * prev)) break;
+        prev = berr;
+        memcpy(h->x0, x, (size_t)na * sizeof *x);
+        memcpy(h->w0, wp, (size_t)ns * sizeof *wp);
+        /* dz = S2^-1 (Gbar r)_A: H'K^-1H r_H on base positions, r on new ones */
+        for (int64_t aq = 0; aq < na; aq++) {
+            int32_t p = s->A[aq];
+            if (c->S[p] >= c->nb) {
+                h->rh[aq] = h->r[p];
+                continue;
+            }
+            const double *Gp = M->G + (int64_t)M->cpos[p] * M->mcap;
+            double v = 0;
+            for (int64_t j = 0; j < M->m; j++) v += Gp[j] * h->r[M->col[j]];
+            h->rh[aq] = v;
+        }
+        aug_schur_solve(s, h->rh);
+        for (int64_t aq = 0; aq < na; aq++) x[aq] += h->rh[aq];
+        ebar_times(a, c, h->rh, h->ew);
+        for (int64_t p = 0; p < ns; p++) wp[p] += h->r[p] + h->ew[p];
+        a->ncorrect++;
+    }
+    return 0;
+}
+
 /* One AMPS step (paper 001 table 1 steps 1-6): V, H'K^-1H and S2 brought up to
    date; a2 = S2^-1 rhs, rhs = H'a_b + H'K^-1H dF_H on base positions, dF on new
    ones (eq. 3.10 with f_t = [f_b; 0] + P_S dF); then eq. 3.20: new DOFs of A take
@@ -144,6 +291,9 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
     /* eq. 3.20: a = a_b + K^-1 H (dF + Ebar a2) off A */
     ebar_times(a, c, x, wp);
     for (int64_t p = 0; p < c->ns; p++) wp[p] += c->dF[p];
+    double tc = now_ms();
+    if (correct_on_h(a, b, c, x, wp)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    a->t_correct = now_ms() - tc;
     v_times(a, b, wp, y);
     int64_t nq = 0;
     if (out) {
