@@ -484,7 +484,7 @@ int aug_cutter_apply(aug_cutter *c, aug_cut_step *s, aug_err *e);
 int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e);
 /* The step's records: MDLT, BDLT (when not empty), UPDT, pATH; with stats also
    sTAt (tag cut: m, k, n the order of K_t, nnew, nmod, nadd, nfix, nload,
-   pieces, flags) and tIMe (time_ms = ms). */
+   pieces, dropped_small, dropped_share, flags) and tIMe (time_ms = ms). */
 int aug_cut_step_write(aug_writer *w, const aug_mesh *m, const aug_cut_step *s, int stats,
                        int64_t n, double ms, aug_err *e);
 
