@@ -336,7 +336,7 @@ static void amps_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
     if (a->kt && a->correct_max > 0 && !isnan(a->berr_h0)) {
         put(st, "correct", a->ncorrect);
         put(st, "berr_h0", a->berr_h0), put(st, "berr_h", a->berr_h);
-        put(tm, "correct", a->t_correct);
+        put(tm, "correct_ms", a->t_correct);
     }
     put(tm, "reach", r->t[0]), put(tm, "memo", r->t[1]), put(tm, "schur", r->t[2]), put(tm, "solve", r->t[3]);
 }
