@@ -15,7 +15,7 @@ static const char *synopsis =
     "cut [FILE] [--plane nx,ny,nz,d|random [--advance dx,dy,dz] [--polygon PTS] [--per-step K] [--seed S]\n"
     "           | --path PFILE [--mode split|snap] [--snap-tol T] [--chords] [--view U,V]\n"
     "           | --blade BFILE | --surface SFILE [--advance dx,dy,dz] [--mode snap|split] [--snap-tol T]]\n"
-    "           --steps N [--pull F] [--detached error|pin|drop|keep]\n"
+    "           --steps N [--pull F] [--detached auto|error|pin|drop|keep]\n"
     "           [--constrain SET|box:LO,HI[=u,v[,w]][@S]]... [--drag SET|box:LO,HI:dx,dy[,dz]]...\n"
     "           [--stats] [--deflate] [-h]";
 
@@ -44,7 +44,8 @@ static const char *help =
     "                       element, chords between the crossings only (thesis fig. 3.5)\n"
     "  --steps N            number of cut steps (N >= 1)\n"
     "  --pull F             opposing forces F on each node copy and its original\n"
-    "  --detached POLICY    piece without Dirichlet support: error (default), pin, drop,\n"
+    "  --detached POLICY    piece without Dirichlet support: auto (default: drop it when\n"
+    "                       below 0.1% of the mesh volume, else error), error, pin, drop,\n"
     "                       keep (write the singular step, flagged, for solvers)\n"
     "  --constrain SPEC     fix the nodes of a set or box:x0,y0,z0,x1,y1,z1 (2-D: 4\n"
     "                       numbers) to 0 or =u,v[,w], at step @S (default 1)\n"
@@ -112,6 +113,7 @@ static int constrain(aug_tool *t, const char *opt, const char *val, void *dst)
 static const aug_word modes[] = {{"split", AUG_PATH_SPLIT}, {"snap", AUG_PATH_SNAP}, {NULL, 0}};
 static const aug_word policies[] = {{"error", AUG_DETACH_ERROR}, {"pin", AUG_DETACH_PIN},
                                     {"drop", AUG_DETACH_DROP},   {"keep", AUG_DETACH_KEEP},
+                                    {"auto", AUG_DETACH_AUTO},
                                     {NULL, 0}};
 
 /* --blade BFILE or --surface SFILE (.msh: gmsh's API, else STL) into o->surf */
@@ -142,6 +144,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
     o->mode = AUG_PATH_SPLIT;
+    o->policy = AUG_DETACH_AUTO;
     o->snap_tol = 0.05;
     o->seed = 1;
     int nsteps = 0;
@@ -156,7 +159,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_REAL("--snap-tol", &o->snap_tol, 0, 0.5, "a number in [0, 0.5)"), .flags = AUG_OPT_HI_OPEN,
          .given = &o->tol_given},
         {AUG_OPT_CHOICE("--mode", &o->mode, modes, "split or snap"), .given = &o->mode_given},
-        {AUG_OPT_CHOICE("--detached", &o->policy, policies, "error, pin, drop or keep")},
+        {AUG_OPT_CHOICE("--detached", &o->policy, policies, "auto, error, pin, drop or keep")},
         {AUG_OPT_CALL("--constrain", constrain, o, "SET or box:LO,HI, optionally =u,v[,w] and @STEP")},
         {AUG_OPT_CALL("--drag", constrain, o, "SET:dx,dy,dz or box:LO,HI:dx,dy,dz (finite numbers)")},
         {AUG_OPT_STRING("--path", &o->pathfile, "a file"), .flags = AUG_OPT_ONCE},

@@ -12,7 +12,7 @@
 static const char *synopsis =
     "solve-aug [FILE] [--method LIST] [--check] [--background] [--bg-lag N]\n"
     "          [--output all|surface|SET] [--refine-iter N] [--refine-tol R]\n"
-    "          [--amps-target R] [--fail-tol F] [--tol T] [--maxit N]\n"
+    "          [--amps-target R] [--amps-correct N] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
     "          [--reach path|cholmod] [--threads N] [--time-full] [--frames N] [--settle N]\n"
     "          [--no-reactions] [--pcg-prec none|jacobi|ic] [--cgm-eps E] [--cgm-p P]\n"
@@ -35,6 +35,9 @@ static const char *help =
     "                       each halving it (default 1e-8; 0: never)\n"
     "  --amps-target R      amps refines once more when its relres exceeds R (default\n"
     "                       1e-12; 0: off)\n"
+    "  --amps-correct N     amps corrects on the rows of H at most N times per step,\n"
+    "                       residuals from back-substitutions over their closure\n"
+    "                       (default 2; 0: never)\n"
     "  --fail-tol F         a direct method whose relres stays above F reports the\n"
     "                       step singular (default 1e-6)\n"
     "  --tol T              relres ||K_t a - f_t||/||f_t|| gmres and pcg stop at (default 1e-8)\n"
@@ -107,6 +110,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_REAL("--fail-tol", &so->fail_tol, 0, 1, "a number in [0, 1)"), .flags = AUG_OPT_HI_OPEN},
         {AUG_OPT_REAL("--amps-target", &so->amps_target, 0, 1, "a number in [0, 1)"),
          .flags = AUG_OPT_HI_OPEN},
+        {AUG_OPT_INT("--amps-correct", &so->amps_correct, 0, 10, "0 to 10")},
         {AUG_OPT_REAL("--tol", &so->tol, 0, 1, "a number in (0, 1)"),
          .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
         {AUG_OPT_INT("--maxit", &so->maxit, 1, 100000000, "a count >= 1")},

@@ -436,7 +436,11 @@ int aug_cut_pull(const aug_mesh *m, const aug_adj *adj, const aug_mdelta *d, dou
 /* ---- One cut step: edit -> MDLT, BDLT, UPDT, pATH (bin/cut.c and the tests) ---- */
 /* keep: write the step as it is, flagged AUG_STEP_DETACHED (K_t singular),
    for solvers to report */
-enum { AUG_DETACH_ERROR = 0, AUG_DETACH_PIN = 1, AUG_DETACH_DROP = 2, AUG_DETACH_KEEP = 3 };
+/* auto (the default of cut(1)): drop a piece whose volume (2-D: area) is below
+   AUG_DETACH_SHARE of the mesh's, as drop does; a larger one is an error */
+enum { AUG_DETACH_ERROR = 0, AUG_DETACH_PIN = 1, AUG_DETACH_DROP = 2, AUG_DETACH_KEEP = 3,
+       AUG_DETACH_AUTO = 4 };
+#define AUG_DETACH_SHARE 1e-3
 typedef struct aug_cutter {
     aug_mesh *m;                 /* the current mesh (updated by every step) */
     aug_adj adj;
@@ -463,6 +467,8 @@ typedef struct aug_cut_step {
     int64_t npieces;             /* face-connected pieces after the step */
     int32_t bad_first;           /* first element of the first detached piece, -1 */
     int64_t bad_size;
+    int64_t nsmall;              /* pieces auto dropped as below AUG_DETACH_SHARE */
+    double small_share;          /* their volume share of the mesh, summed */
 } aug_cut_step;
 int aug_cutter_init(aug_cutter *c, aug_mesh *m, int64_t nn0, const int32_t *map0,
                     int64_t nfree0, aug_err *e);
@@ -478,7 +484,7 @@ int aug_cutter_apply(aug_cutter *c, aug_cut_step *s, aug_err *e);
 int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e);
 /* The step's records: MDLT, BDLT (when not empty), UPDT, pATH; with stats also
    sTAt (tag cut: m, k, n the order of K_t, nnew, nmod, nadd, nfix, nload,
-   pieces, flags) and tIMe (time_ms = ms). */
+   pieces, dropped_small, dropped_share, flags) and tIMe (time_ms = ms). */
 int aug_cut_step_write(aug_writer *w, const aug_mesh *m, const aug_cut_step *s, int stats,
                        int64_t n, double ms, aug_err *e);
 

@@ -68,6 +68,14 @@ static inline int64_t aug_cutmat_n(const aug_cutmat *m) { return m->cum.n; }
 void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y);
 /* f = f_t */
 void aug_cutmat_rhs(const aug_cutmat *m, double *f);
+/* r[t] = (f_t - K_t x)(rows[t]), ka[t] = (|K_t||x| + |f_t|)(rows[t]) (ka may
+   be NULL); x is read on aug_cutmat_pattern(rows) only. */
+void aug_cutmat_rows_residual(const aug_cutmat *m, const int32_t *rows, int64_t nr, const double *x,
+                              double *r, double *ka);
+/* The union of the patterns of K_t's rows rows[0..nr) into out (unordered);
+   mark: n bytes, 0 on entry and exit. Returns its size. */
+int64_t aug_cutmat_pattern(const aug_cutmat *m, const int32_t *rows, int64_t nr, int32_t *out,
+                           unsigned char *mark);
 /* ||K_t x - f_t|| / ||f_t|| (2-norms; absolute residual when f_t = 0). */
 double aug_cutmat_relres(aug_cutmat *m, const double *x);
 /* The part of relres on the rows where K_t differs from K0 (S): O(|S| row
@@ -218,6 +226,7 @@ typedef struct aug_schur {
     unsigned char *act;  /* act[pos] */
     int64_t pcap;
     int32_t *gi;         /* gi[a]: memo column of A[a], -1 for a new DOF */
+    double *rs;          /* rs[a]: scale of row a of S2 (1 / sigma for a new DOF) */
     double *S2;          /* LU factors of S2, leading dim scap (aug_sq_grow);
                             S2 itself is formed from the memo's G and Ebar_AA
                             column by column where the factorization needs it */
@@ -265,6 +274,14 @@ typedef struct aug_amps {
     int32_t *ca;         /* closure of A's base DOFs in L' (permuted, ascending) */
     double *t2;          /* n_b-sized scratch */
     cholmod_dense *X, *Yw, *Ew; /* cholmod_solve2 workspaces (supernodal path) */
+    /* the correction on H (amps_solve.c, correct_on_h): set kt to K_t */
+    const aug_cutmat *kt; /* K_t (NULL: no correction) */
+    int correct_max;     /* sweeps at most */
+    int ncorrect;        /* sweeps the last step applied */
+    double berr_h0, berr_h; /* componentwise backward error on the rows of H
+                            before the first and after the last sweep measured */
+    double t_correct;    /* ms the last step's correction took */
+    struct aug_hcorr *hc; /* its workspace */
 } aug_amps;
 
 void aug_amps_init(aug_amps *a);
@@ -559,6 +576,7 @@ typedef struct aug_solver_opts {
     int pcg_prec;        /* AUG_PCG_NONE, AUG_PCG_JACOBI (default) or AUG_PCG_IC */
     double auto_prior;   /* auto: the re-factorization time (ms) assumed until one
                             is measured; 0: AUG_AUTO_PRIOR full solves */
+    int amps_correct;    /* amps: correction sweeps on H at most (0: none) */
 } aug_solver_opts;
 void aug_solver_opts_default(aug_solver_opts *o);
 

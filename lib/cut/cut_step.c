@@ -1,5 +1,7 @@
 /* One cut step from the mesh edit to its records: MDLT applied to the mesh,
    pull forces and detached pieces as BDLT, the UPDT of AMPS eq. 3.1. */
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "aug_cut.h"
@@ -74,6 +76,18 @@ int aug_cutter_apply(aug_cutter *c, aug_cut_step *s, aug_err *e)
     return 0;
 }
 
+/* volume (2-D: area) of piece id over that of the whole mesh */
+static double piece_share(const aug_mesh *m, const aug_pieces *p, int32_t id)
+{
+    double v = 0, all = 0;
+    for (int64_t e = 0; e < m->ne; e++) {
+        double a = fabs(aug_elem_measure(m, e));
+        all += a;
+        if (p->piece[e] == id) v += a;
+    }
+    return all > 0 ? v / all : 0;
+}
+
 /* bc += pull forces; while a piece is unsupported: error, or bc += its supports;
    u = the UPDT of (d, bc) (AMPS eq. 3.1); then the mesh takes bc */
 int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e)
@@ -99,13 +113,19 @@ int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e)
             s->d.flags |= AUG_STEP_DETACHED;
         }
         if (c->policy == AUG_DETACH_KEEP) break;
-        if (c->policy == AUG_DETACH_ERROR || round > pp->np) {
+        double share = c->policy == AUG_DETACH_AUTO ? piece_share(c->m, pp, id) : 0;
+        int small = c->policy == AUG_DETACH_AUTO && share < AUG_DETACH_SHARE;
+        if (c->policy == AUG_DETACH_ERROR || (c->policy == AUG_DETACH_AUTO && !small) || round > pp->np) {
             aug_err_set(e, AUG_ESINGULAR, -1, "MDLT",
                         "step %d: the piece of %lld elements holding element %d has no Dirichlet "
                         "support (%lld pieces; use --detached pin or drop)",
                         (int)s->step, (long long)pp->size[id], (int)pp->first[id], (long long)pp->np);
+            if (c->policy == AUG_DETACH_AUTO)
+                snprintf(e->msg + strlen(e->msg), sizeof e->msg - strlen(e->msg),
+                         " (%.3g of the volume, above %g)", share, AUG_DETACH_SHARE);
             return AUG_ESINGULAR;
         }
+        if (small) s->nsmall++, s->small_share += share;
         aug_bdelta add;
         aug_bdelta_init(&add);
         if (c->policy == AUG_DETACH_PIN) {
@@ -152,6 +172,8 @@ int aug_cut_step_write(aug_writer *w, const aug_mesh *m, const aug_cut_step *s, 
     aug_kv_set(&q, "nfix", (double)s->bc.nfix);
     aug_kv_set(&q, "nload", (double)s->bc.nload);
     aug_kv_set(&q, "pieces", (double)s->npieces);
+    aug_kv_set(&q, "dropped_small", (double)s->nsmall);
+    aug_kv_set(&q, "dropped_share", s->small_share);
     aug_kv_set(&q, "flags", s->d.flags);
     if (aug_write_kv(w, "sTAt", s->step, &q, e)) return e->code;
     aug_kv_init(&q, "cut");

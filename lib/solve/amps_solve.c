@@ -2,8 +2,59 @@
    3.21 (with loads changed on H) and the solution by eq. 3.20 (sec. 3.1),
    back-substituting only over the closure of the requested DOFs (paper 000 thm 2). */
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 #include "aug_solve.h"
+
+/* workspace of correct_on_h, sized for K_t of order n with |S| = ns */
+typedef struct aug_hcorr {
+    int64_t ncap, scap;
+    int32_t *pat, *cl, *ca, *qa; /* pattern of H's rows (n), its closure in L', the closure
+                                 of A's base DOFs, A index of a position */
+    unsigned char *mark;     /* n bytes, zero between uses */
+    double *xt;              /* K_t-sized values on the pattern */
+    double *yd;              /* n-sized: the field of the correction */
+    double *r, *ka, *rh, *ew, *x0, *w0; /* S-sized */
+} aug_hcorr;
+
+static void hcorr_free(aug_hcorr *h)
+{
+    if (!h) return;
+    free(h->pat), free(h->cl), free(h->ca), free(h->qa), free(h->mark), free(h->xt), free(h->yd);
+    free(h->r), free(h->ka), free(h->rh), free(h->ew), free(h->x0), free(h->w0);
+    free(h);
+}
+
+static aug_hcorr *hcorr_get(aug_amps *a, int64_t n, int64_t ns)
+{
+    aug_hcorr *h = a->hc;
+    if (!h && !(h = a->hc = aug_calloc(1, sizeof *h))) return NULL;
+    if (h->ncap < n + 1) {
+        free(h->pat), free(h->cl), free(h->ca), free(h->mark), free(h->xt), free(h->yd);
+        h->yd = aug_malloc((size_t)(n + 1) * sizeof *h->yd);
+        h->pat = aug_malloc((size_t)(n + 1) * sizeof *h->pat);
+        h->ca = aug_malloc((size_t)(n + 1) * sizeof *h->ca);
+        h->cl = aug_malloc((size_t)(n + 1) * sizeof *h->cl);
+        h->mark = aug_calloc((size_t)(n + 1), 1);
+        h->xt = aug_malloc((size_t)(n + 1) * sizeof *h->xt);
+        h->ncap = h->pat && h->cl && h->ca && h->mark && h->xt && h->yd ? n + 1 : 0;
+        if (!h->ncap) return NULL;
+    }
+    if (h->scap < ns + 1) {
+        double **v[] = {&h->r, &h->ka, &h->rh, &h->ew, &h->x0, &h->w0};
+        free(h->qa);
+        h->qa = aug_malloc((size_t)(ns + 1) * sizeof *h->qa);
+        int ok = h->qa != NULL;
+        for (size_t k = 0; k < sizeof v / sizeof *v; k++) {
+            free(*v[k]);
+            *v[k] = aug_malloc((size_t)(ns + 1) * sizeof **v[k]);
+            ok = ok && *v[k];
+        }
+        h->scap = ok ? ns + 1 : 0;
+        if (!ok) return NULL;
+    }
+    return h;
+}
 
 void aug_amps_init(aug_amps *a)
 {
@@ -31,6 +82,7 @@ void aug_amps_free(aug_amps *a)
     free(a->mark);
     free(a->ca);
     free(a->t2);
+    hcorr_free(a->hc);
     memset(a, 0, sizeof *a);
 }
 
@@ -95,6 +147,115 @@ static void v_times(const aug_amps *a, const aug_base *b, const double *wp, doub
     aug_ldl_dsolve(b, NULL, 0, y);
 }
 
+/* x (permuted, n_b) := the base part of [a_b; 0] + Kbar^-1 P_S wp on the
+   set set[0..k) closed in L': y = D^-1 V wp (v_times), then L^-T over the set
+   only (paper 000 thm 2: a closed set's values need nothing outside it) */
+static void closure_field(const aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
+                          int64_t k, double *y)
+{
+    v_times(a, b, wp, y);
+    aug_ldl_ltsolve_closure_super(b, set, k, y, a->t2);
+}
+
+/* the normwise backward error on the rows of H at which the correction
+   stops: a few units of rounding */
+#define BERR_OK 4e-16
+
+/* Correction on the small system (paper 001 eq. 3.8 with a residual
+   right-hand side; issue 15 item 1). AMPS's field x = [a_b; 0] + Kbar^-1 P_S w,
+   w = dF + Ebar a2, satisfies every row of K_t outside S to the rounding of
+   one back-substitution, so its residual r = f_t - K_t x lives on the rows
+   of S: S2 (from the memo's H'K^-1H) and the back-substitution disagree by
+   rounding that cond(S2) amplifies. x is needed only on the pattern of those
+   rows, which the back-substitution gives over the closure of that pattern
+   in L' (the top of the elimination tree), not all of L. With r on S,
+   K_t^-1 P_S r = Kbar^-1 P_S (r + Ebar dz), S2 dz = (Kbar^-1 P_S r)_A (eqs.
+   3.8 and 3.15 for the right-hand side P_S r; the right-hand side by the
+   back-substitution over the closure of A, the operator the field comes
+   from): a2 += dz, dw += r + Ebar dz. As in any iterative refinement the
+   correction's field Kbar^-1 P_S dw is added to the field already computed,
+   never recomputed with w + dw in one back-substitution: that would bring
+   back rounding of the size being removed. The residual is summed in long
+   double (aug_cutmat_rows_residual). A sweep is taken while the normwise
+   backward error max|r| / max(|K_t||x| + |f_t|) on those rows exceeds
+   BERR_OK, at most correct_max times; one that does not lower it is
+   undone, one that lowers it by less than 10% is the last. dw (S-sized) is
+   zero when no sweep was kept. Sets ncorrect, berr_h0, berr_h. */
+static int correct_on_h(aug_amps *a, const aug_base *b, const aug_cum *c, double *x,
+                        const double *wp, double *dw)
+{
+    a->ncorrect = 0;
+    a->berr_h0 = a->berr_h = NAN;
+    const aug_schur *s = &a->schur;
+    int64_t ns = c->ns, na = s->na;
+    for (int64_t p = 0; p < ns; p++) dw[p] = 0;
+    if (!a->kt || a->correct_max <= 0 || ns == 0) return 0;
+    aug_hcorr *h = hcorr_get(a, c->n, ns);
+    if (!h) return -1;
+    /* the rows of S, their pattern, its base DOFs' closure in L', A's closure */
+    int64_t np = aug_cutmat_pattern(a->kt, c->S, ns, h->pat, h->mark), k = 0;
+    for (int64_t t = 0; t < np; t++)
+        if (h->pat[t] < c->nb) h->cl[k++] = b->pinv[h->pat[t]];
+    memcpy(a->ca, h->cl, (size_t)k * sizeof *h->cl);
+    int64_t ncl = aug_ldl_closure(b, a->ca, k, h->cl, a->mark), nca = 0;
+    for (int64_t aq = 0; aq < na; aq++)
+        if (c->S[s->A[aq]] < c->nb) a->ca[nca++] = b->pinv[c->S[s->A[aq]]];
+    memcpy(a->y, a->ca, (size_t)nca * sizeof *a->ca); /* a->y: scratch here */
+    nca = aug_ldl_closure(b, (const int32_t *)a->y, nca, h->ca, a->mark);
+    for (int64_t p = 0; p < ns; p++) h->qa[p] = -1;
+    for (int64_t aq = 0; aq < na; aq++) h->qa[s->A[aq]] = (int32_t)aq;
+    double *y = a->y, prev = INFINITY;
+    /* xt: the field on the pattern, base DOFs from w, then the increments */
+    closure_field(a, b, wp, h->cl, ncl, y);
+    for (int64_t t = 0; t < np; t++)
+        if (h->pat[t] < c->nb) h->xt[h->pat[t]] = b->a[h->pat[t]] + y[b->pinv[h->pat[t]]];
+    for (int it = 0;; it++) {
+        for (int64_t t = 0; t < np; t++) {
+            int32_t i = h->pat[t];
+            if (i >= c->nb) {
+                int32_t p = c->pos[i], aq = h->qa[p];
+                h->xt[i] = aq >= 0 ? x[aq] : c->dF[p] + dw[p];
+            }
+        }
+        aug_cutmat_rows_residual(a->kt, c->S, ns, h->xt, h->r, h->ka);
+        double rmax = 0, kmax = 0, berr;
+        for (int64_t p = 0; p < ns; p++) {
+            if (fabs(h->r[p]) > rmax) rmax = fabs(h->r[p]);
+            if (h->ka[p] > kmax) kmax = h->ka[p];
+        }
+        berr = kmax > 0 ? rmax / kmax : rmax > 0 ? INFINITY : 0;
+        if (it == 0) a->berr_h0 = berr;
+        if (berr > prev) { /* the last sweep made it worse: undone */
+            memcpy(x, h->x0, (size_t)na * sizeof *x);
+            memcpy(dw, h->w0, (size_t)ns * sizeof *dw);
+            a->ncorrect--;
+            a->berr_h = prev;
+            break;
+        }
+        a->berr_h = berr;
+        if (berr <= BERR_OK || it == a->correct_max || (it > 0 && berr > 0.9 * prev)) break;
+        prev = berr;
+        memcpy(h->x0, x, (size_t)na * sizeof *x);
+        memcpy(h->w0, dw, (size_t)ns * sizeof *dw);
+        /* dz = S2^-1 (Kbar^-1 P_S r)_A, r itself on new DOFs */
+        closure_field(a, b, h->r, h->ca, nca, y);
+        for (int64_t aq = 0; aq < na; aq++) {
+            int32_t i = c->S[s->A[aq]];
+            h->rh[aq] = i < c->nb ? y[b->pinv[i]] : h->r[s->A[aq]];
+        }
+        aug_schur_solve(s, h->rh);
+        for (int64_t aq = 0; aq < na; aq++) x[aq] += h->rh[aq];
+        ebar_times(a, c, h->rh, h->ew);
+        for (int64_t p = 0; p < ns; p++) h->ew[p] += h->r[p], dw[p] += h->ew[p];
+        /* the increment's field on the pattern, added */
+        closure_field(a, b, h->ew, h->cl, ncl, y);
+        for (int64_t t = 0; t < np; t++)
+            if (h->pat[t] < c->nb) h->xt[h->pat[t]] += y[b->pinv[h->pat[t]]];
+        a->ncorrect++;
+    }
+    return 0;
+}
+
 /* One AMPS step (paper 001 table 1 steps 1-6): V, H'K^-1H and S2 brought up to
    date; a2 = S2^-1 rhs, rhs = H'a_b + H'K^-1H dF_H on base positions, dF on new
    ones (eq. 3.10 with f_t = [f_b; 0] + P_S dF); then eq. 3.20: new DOFs of A take
@@ -144,7 +305,10 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
     /* eq. 3.20: a = a_b + K^-1 H (dF + Ebar a2) off A */
     ebar_times(a, c, x, wp);
     for (int64_t p = 0; p < c->ns; p++) wp[p] += c->dF[p];
-    v_times(a, b, wp, y);
+    double tc = now_ms();
+    double *dw = a->w + a->xcap; /* the correction's sum of w increments */
+    if (correct_on_h(a, b, c, x, wp, dw)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    a->t_correct = now_ms() - tc;
     int64_t nq = 0;
     if (out) {
         int32_t *st = a->q;
@@ -156,11 +320,19 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
         nq = aug_ldl_closure(b, st, k, tmp, a->mark);
         memcpy(a->q, tmp, (size_t)nq * sizeof *tmp);
         free(tmp);
-        aug_ldl_ltsolve(b, a->q, nq, y);
     } else {
-        if (aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm))
-            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
         nq = b->n;
+    }
+    /* the field of w, then (corrected) the field of dw added to it */
+    for (int pass = 0; pass < (a->ncorrect > 0 ? 2 : 1); pass++) {
+        double *yp = pass ? a->hc->yd : y;
+        v_times(a, b, pass ? dw : wp, yp);
+        if (out)
+            aug_ldl_ltsolve(b, a->q, nq, yp);
+        else if (aug_ldl_ltsolve_all(b, yp, &a->X, &a->Yw, &a->Ew, cm))
+            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
+        if (pass)
+            for (int64_t t = 0; t < (out ? nq : b->n); t++) y[out ? a->q[t] : t] += yp[out ? a->q[t] : t];
     }
     a->nq = nq;
     int64_t cnt = out ? nout : c->n;
@@ -172,7 +344,7 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
            field (a2 and the back-substituted value differ by the rounding of
            H'K^-1H, amplified by ||K||) */
         if (i < c->nb) u[i] = b->a[i] + y[b->pinv[i]];
-        else if (!s->act[p]) u[i] = c->dF[p];
+        else if (!s->act[p]) u[i] = c->dF[p] + dw[p];
     }
     for (int64_t aq = 0; aq < s->na; aq++)
         if (c->S[s->A[aq]] >= c->nb) u[c->S[s->A[aq]]] = x[aq];

@@ -280,6 +280,66 @@ double aug_cutmat_relres_changed(aug_cutmat *m, const double *x)
     return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
 }
 
+/* r[t] = (f_t - K_t x)(rows[t]) and ka[t] = (|K_t| |x| + |f_t|)(rows[t]), the
+   denominator of the componentwise backward error ([Higham] sec. 7.2; ka may
+   be NULL); x is read on the pattern of those rows only (aug_cutmat_pattern).
+   The sums are taken in long double: in double their own rounding, about
+   (row length) eps |K_t||x|, is as large as the residual a correction has to
+   remove (iterative refinement with an extended-precision residual,
+   [Higham] sec. 12.1). */
+void aug_cutmat_rows_residual(const aug_cutmat *m, const int32_t *rows, int64_t nr, const double *x,
+                              double *r, double *ka)
+{
+    const aug_cum *c = &m->cum;
+    const int *Ap = m->K0->p, *Ai = m->K0->i;
+    const double *Ax = m->K0->x;
+    for (int64_t t = 0; t < nr; t++) {
+        int64_t i = rows[t], p = i < c->pcap ? c->pos[i] : -1;
+        long double f = (i < m->n0 ? m->f0[i] : 0) + (long double)(p >= 0 ? c->dF[p] : 0), k = 0;
+        double a = fabs((double)f);
+        /* Kbar(i, :) x: K_0's row i is its column i */
+        if (i < m->n0)
+            for (int q = Ap[i]; q < Ap[i + 1]; q++) {
+                long double v = (long double)Ax[q] * x[Ai[q]];
+                k += v, a += fabs((double)v);
+            }
+        else
+            k = x[i], a += fabs(x[i]);
+        if (p >= 0) {
+            const aug_ecol *E = &c->E[p]; /* column p: row p of the symmetric Ebar */
+            for (int32_t q = 0; q < E->nz; q++) {
+                long double v = (long double)E->x[q] * x[c->S[E->i[q]]];
+                k -= v, a += fabs((double)v);
+            }
+        }
+        r[t] = (double)(f - k);
+        if (ka) ka[t] = a;
+    }
+}
+
+/* the union of the patterns of K_t's rows rows[0..nr) (K_0's and Ebar's:
+   entries that cancelled included), into out, in no particular order; mark
+   (size n, 0 on entry and exit) is workspace. Returns its size. */
+int64_t aug_cutmat_pattern(const aug_cutmat *m, const int32_t *rows, int64_t nr, int32_t *out,
+                           unsigned char *mark)
+{
+    const aug_cum *c = &m->cum;
+    const int *Ap = m->K0->p, *Ai = m->K0->i;
+    int64_t k = 0;
+#define ADD(j) do { int32_t j_ = (j); if (!mark[j_]) mark[j_] = 1, out[k++] = j_; } while (0)
+    for (int64_t t = 0; t < nr; t++) {
+        int64_t i = rows[t], p = i < c->pcap ? c->pos[i] : -1;
+        ADD((int32_t)i);
+        if (i < m->n0)
+            for (int q = Ap[i]; q < Ap[i + 1]; q++) ADD(Ai[q]);
+        if (p >= 0)
+            for (int32_t q = 0; q < c->E[p].nz; q++) ADD(c->S[c->E[p].i[q]]);
+    }
+#undef ADD
+    for (int64_t t = 0; t < k; t++) mark[out[t]] = 0;
+    return k;
+}
+
 /* ||f_t - K_t x||_2 / ||f_t||_2 (aug_cutmat_residual into rwork) */
 double aug_cutmat_relres(aug_cutmat *m, const double *x)
 {

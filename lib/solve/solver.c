@@ -50,6 +50,7 @@ void aug_solver_opts_default(aug_solver_opts *o)
     o->nthreads = 1;
     aug_cgm_opts_default(&o->cgm);
     o->pcg_prec = AUG_PCG_JACOBI;
+    o->amps_correct = 2;
 }
 
 struct aug_solver {
@@ -337,6 +338,7 @@ static void cut_size(const aug_solver *s, aug_kv *st)
    dense S2, the solution on the output closure */
 static int amps_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
+    s->amps.kt = &s->cut, s->amps.correct_max = s->o.amps_correct; /* the correction on H */
     int rc = aug_amps_step(&s->amps, s->base, &s->cum, q->full ? NULL : q->out, q->nout, s->o.rcond_min,
                            r->x, r->t, s->cm, e);
     r->sing = s->amps.schur.singular;
@@ -370,6 +372,11 @@ static void amps_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
     put(st, "closure_out", (double)a->nq);
     put(st, "s2_from", (double)a->schur.k0);
     if (!isnan(a->schur.rcond)) put(st, "rcond", a->schur.rcond);
+    if (a->kt && a->correct_max > 0 && !isnan(a->berr_h0)) {
+        put(st, "correct", a->ncorrect);
+        put(st, "berr_h0", a->berr_h0), put(st, "berr_h", a->berr_h);
+        put(tm, "correct_ms", a->t_correct);
+    }
     put(tm, "reach", r->t[0]), put(tm, "memo", r->t[1]), put(tm, "schur", r->t[2]), put(tm, "solve", r->t[3]);
 }
 
