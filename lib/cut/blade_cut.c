@@ -384,21 +384,27 @@ static int edge_cross(aug_blade_cut *bc, const aug_edit *ed, aug_edgemap *miss, 
     return aug_edgemap_put(miss, a, b) ? 0 : -1;
 }
 
-/* every node of el farther than 1e-9 h from t's plane, all on one side:
-   the triangle cannot meet the element */
-static int apart(const aug_blade_cut *bc, const aug_edit *ed, int32_t el, const double *t)
+/* the normal of triangle t (u x v of its sides from the first corner) in
+   n[0..2], its length in n[3] */
+static void tri_plane(const double *t, double n[4])
 {
-    double u[3], v[3], n[3];
+    double u[3], v[3];
     for (int k = 0; k < 3; k++) u[k] = t[3 + k] - t[k], v[k] = t[6 + k] - t[k];
     n[0] = u[1] * v[2] - u[2] * v[1];
     n[1] = u[2] * v[0] - u[0] * v[2];
     n[2] = u[0] * v[1] - u[1] * v[0];
-    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    n[3] = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+/* every node of el farther than 1e-9 h from the plane of triangle t (normal n,
+   tri_plane), all on one side: the triangle cannot meet the element */
+static int apart(const aug_blade_cut *bc, const aug_edit *ed, int32_t el, const double *t, const double *n)
+{
     int plus = 0, minus = 0;
     const int32_t *c = aug_edit_conn(ed, el);
     for (int a = 0; a < ed->m->nv; a++) {
         const double *x = aug_edit_x(ed, c[a]);
-        double d = (n[0] * (x[0] - t[0]) + n[1] * (x[1] - t[1]) + n[2] * (x[2] - t[2])) / l;
+        double d = (n[0] * (x[0] - t[0]) + n[1] * (x[1] - t[1]) + n[2] * (x[2] - t[2])) / n[3];
         plus += d > bc->hon;
         minus += d < -bc->hon;
     }
@@ -427,8 +433,13 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
         tri_box(bc->soup.t + 9 * t, lo, hi);
         if (!clip_box(bc, lo, hi, bc->hon, a, b)) continue;
         if (aug_boxgrid_query(&bc->eg, a, b, &bc->buf, &bc->nbuf, &bc->capbuf)) goto nomem;
-        for (int64_t i = 0; i < bc->nbuf; i++)
-            if (!apart(bc, ed, bc->buf[i], bc->soup.t + 9 * t) && q_push(&w, bc->buf[i])) goto nomem;
+        double n[4];
+        tri_plane(bc->soup.t + 9 * t, n);
+        for (int64_t i = 0; i < bc->nbuf; i++) {
+            int32_t el = bc->buf[i];
+            if (el < w.capin && (w.in[el] & 1)) continue; /* queued for an earlier triangle */
+            if (!apart(bc, ed, el, bc->soup.t + 9 * t, n) && q_push(&w, el)) goto nomem;
+        }
     }
     unsigned char *seen = aug_calloc((size_t)aug_edit_nn(ed) + 1, 1);
     if (!seen) goto nomem;
