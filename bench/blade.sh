@@ -5,8 +5,8 @@
 # detached-piece check, UPDT) against one full CHOLMOD solve of K0 (factor's
 # step-0 solve; goal: a step < 10% of it) and against the factorization,
 # the update sizes m and k, the element quality of the cut mesh (and, split,
-# after refine's 3-D pass on the whole stroke cut in one step: refine refuses
-# a later step that re-cuts a tetrahedron it bisected), and AMPS against
+# after refine's 3-D pass on the STEPS-step cut, which refine follows with its
+# look-ahead, and on the whole stroke cut in one step), and AMPS against
 # refactor on the resulting steps (solve-aug --method amps,refactor, per step
 # time_ms).
 # Writes bench/out/blade.csv (per step), blade_solve.csv (per step and
@@ -84,6 +84,8 @@ bin/cut $TMP/f.aug --blade $TMP/blade.txt --steps 1 --mode split --detached pin 
 q1=$(bin/cut $TMP/f.aug --blade $TMP/blade.txt --steps 1 --mode split --detached pin > $TMP/c1.aug && quality $TMP/c1.aug)
 qr=$(quality $TMP/r.aug)
 ner=$(bin/stats $TMP/r.aug | awk '$1 == "final" && $2 == "mesh" { print $5 }')
+bin/refine $TMP/c_split.aug > $TMP/rs.aug || { echo "blade.sh: split ($STEPS steps) | refine failed" >&2; exit 1; }
+echo "split+refine,$nodes,$(bin/stats $TMP/rs.aug | awk '$1 == "final" && $2 == "mesh" { print $5 }'),$STEPS,,,,$solve_ms,$factor_ms,,,,,,$(quality $TMP/rs.aug),," >> $SUM
 echo "split_1step,$nodes,,1,1,,,$solve_ms,$factor_ms,,,,,,$q1,," >> $SUM
 echo "split_1step+refine,$nodes,$ner,1,1,,,$solve_ms,$factor_ms,,,,,,$qr,," >> $SUM
 column -s, -t < $SUM

@@ -65,6 +65,8 @@ typedef struct state {
     aug_rec *buf;        /* the current step's records, in order */
     int nbuf, capbuf;
     int32_t step;
+    int ahead;           /* 3-D: the whole stream is read first (aug_refiner_plan) */
+    int *run, nrun, caprun; /* ahead: where each step's records start in buf */
 } state;
 
 static void keep(aug_tool *t, state *s, const aug_rec *rec)
@@ -80,23 +82,70 @@ static void keep(aug_tool *t, state *s, const aug_rec *rec)
     aug_tool_check(t, aug_rec_copy(&s->buf[s->nbuf++], rec, &e), &e);
 }
 
-/* the buffered step, refined; the refiner starts from the original mesh at the first step */
+/* the refiner, from the original mesh, at the first step */
+static void start(aug_tool *t, state *s, const options *o)
+{
+    aug_err e;
+    if (s->started) return;
+    const aug_mesh *m = &s->rp.mesh;
+    if (!(m->have & AUG_HAVE_NODE) || !(m->have & AUG_HAVE_ELEM))
+        aug_tool_die(t, "%s: the stream has no mesh (NODE and ELEM records)", t->inname);
+    aug_tool_check(t, aug_replay_start(&s->rp, &e), &e);
+    aug_tool_check(t, aug_refiner_init(&s->r, m, &o->opt, &e), &e);
+    s->r.dyn = s->rp.dynamic ? &s->rp.dyn : NULL;
+    s->started = 1;
+}
+
+/* records buf[i0, i1) of one step, refined */
+static void refine_run(aug_tool *t, state *s, int i0, int i1)
+{
+    aug_err e;
+    aug_tool_check(t, aug_refine_records(&s->r, s->buf + i0, i1 - i0, s->buf[i0].step, t->w, &e), &e);
+    for (int i = i0; i < i1; i++) aug_rec_free(&s->buf[i]);
+}
+
+/* the buffered step, refined (2-D); with look-ahead (3-D) the whole stream at its
+   end: every MDLT planned first (aug_refiner_plan), then each step refined */
 static void flush(aug_tool *t, state *s, const options *o)
 {
     aug_err e;
     if (!s->nbuf) return;
-    if (!s->started) {
-        const aug_mesh *m = &s->rp.mesh;
-        if (!(m->have & AUG_HAVE_NODE) || !(m->have & AUG_HAVE_ELEM))
-            aug_tool_die(t, "%s: the stream has no mesh (NODE and ELEM records)", t->inname);
-        aug_tool_check(t, aug_replay_start(&s->rp, &e), &e);
-        aug_tool_check(t, aug_refiner_init(&s->r, m, &o->opt, &e), &e);
-        s->r.dyn = s->rp.dynamic ? &s->rp.dyn : NULL;
-        s->started = 1;
+    start(t, s, o);
+    if (!s->ahead) {
+        aug_tool_check(t, aug_refine_records(&s->r, s->buf, s->nbuf, s->step, t->w, &e), &e);
+        for (int i = 0; i < s->nbuf; i++) aug_rec_free(&s->buf[i]);
+    } else {
+        const aug_mesh *m = &s->r.cut;
+        for (int i = 0; i < s->nbuf; i++) {
+            if (memcmp(s->buf[i].type, "MDLT", 4)) continue;
+            aug_mdelta d;
+            aug_mdelta_init(&d);
+            aug_tool_check(t, aug_read_mdelta(&s->buf[i], m->dim, m->nv, &d, &e), &e);
+            int rc = aug_refiner_plan(&s->r, &d, &e);
+            aug_mdelta_free(&d);
+            if (rc) {
+                e.record = s->buf[i].index;
+                memcpy(e.type, "MDLT", 5);
+            }
+            aug_tool_check(t, rc, &e);
+        }
+        for (int k = 0; k < s->nrun; k++) refine_run(t, s, s->run[k], k + 1 < s->nrun ? s->run[k + 1] : s->nbuf);
+        s->nrun = 0;
     }
-    aug_tool_check(t, aug_refine_records(&s->r, s->buf, s->nbuf, s->step, t->w, &e), &e);
-    for (int i = 0; i < s->nbuf; i++) aug_rec_free(&s->buf[i]);
     s->nbuf = 0;
+}
+
+/* ahead: a step's records start at buf[nbuf] */
+static void mark_run(aug_tool *t, state *s)
+{
+    if (s->nrun == s->caprun) {
+        int cap = s->caprun ? 2 * s->caprun : 64;
+        int *p = realloc(s->run, (size_t)cap * sizeof *p);
+        if (!p) aug_tool_die(t, "out of memory");
+        s->run = p;
+        s->caprun = cap;
+    }
+    s->run[s->nrun++] = s->nbuf;
 }
 
 int main(int argc, char **argv)
@@ -117,7 +166,11 @@ int main(int argc, char **argv)
     while (aug_tool_read(&t, &rec) == 1) {
         const aug_rectype *rt = aug_rectype_find(rec.type);
         if (rt && rt->perstep && rec.step >= 0) {
-            if (s.nbuf && rec.step != s.step) flush(&t, &s, &o);
+            if (!s.nbuf && !s.nrun) s.ahead = s.rp.mesh.dim == 3;
+            if (s.ahead) {
+                if (!s.nbuf || rec.step != s.step) mark_run(&t, &s);
+            } else if (s.nbuf && rec.step != s.step)
+                flush(&t, &s, &o);
             s.step = rec.step;
             aug_progress(&t, s.step, 0);
             keep(&t, &s, &rec);
@@ -132,6 +185,7 @@ int main(int argc, char **argv)
     aug_tool_close(&t);
     aug_rec_free(&rec);
     free(s.buf);
+    free(s.run);
     if (s.started) aug_refiner_free(&s.r);
     aug_replay_free(&s.rp);
     return 0;

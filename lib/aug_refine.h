@@ -88,6 +88,9 @@ typedef struct aug_work {
     int64_t capparent;
     int64_t max_new;     /* refinement stops adding nodes beyond this many per step
                             (0: the options' max_new, else 200000) */
+    const int32_t *keep; /* 3-D, or NULL: per owner tag (< nkeep), the last step that
+                            re-writes that owner; its tets are not bisected before it */
+    int64_t nkeep;
 } aug_work;
 int aug_work_init(aug_work *w, const aug_mesh *m);   /* copies geometry; builds adjacency */
 void aug_work_free(aug_work *w);
@@ -170,7 +173,14 @@ typedef struct aug_refiner {
     int32_t *map0;        /* aug_dofmap of the original mesh */
     const aug_dynp *dyn;  /* a dynamic stream's DYNP (updates of A, K, M), or NULL */
     aug_refine_opt opt;
+    int32_t *last;        /* 3-D look-ahead: per cut-view element, the last step whose
+                             MDLT changes it (aug_refiner_plan), -1 none */
+    int64_t nlast;
 } aug_refiner;
+/* 3-D look-ahead over the whole cut stream, before its first step is refined:
+   every MDLT's changed elements in step order (d), so that a tet a later step
+   re-cuts is bisected only at the last step that changes it. */
+int aug_refiner_plan(aug_refiner *r, const aug_mdelta *d, aug_err *e);
 
 /* Per-step figures for qUAl (tag "refine"). */
 typedef struct aug_refine_q {

@@ -328,12 +328,14 @@ static int q_push(queue *w, int32_t el)
     return 0;
 }
 
-/* nodes within 1e-9 h of the surface (through nodes, along faces) are on it */
-static int mark_close(aug_blade_cut *bc, const aug_edit *ed, int64_t el)
+/* nodes within 1e-9 h of the surface (through nodes, along faces) are on it;
+   seen: nodes measured already this step */
+static int mark_close(aug_blade_cut *bc, const aug_edit *ed, int64_t el, unsigned char *seen)
 {
     const int32_t *c = aug_edit_conn(ed, el);
     for (int k = 0; k < 4; k++) {
-        if (bc->on[c[k]]) continue;
+        if (bc->on[c[k]] || seen[c[k]]) continue;
+        seen[c[k]] = 1;
         double d = surf_dist(bc, aug_edit_x(ed, c[k]), bc->hon);
         if (d < 0) return -1;
         if (d <= bc->hon) bc->on[c[k]] = 1;
@@ -352,9 +354,14 @@ static int before(const double *p, const double *q)
 /* The first crossing of edge a-b with the surface that is not at an end on
    it already: 1 and *s, else 0; -1 memory. The ends are put in
    lexicographic order of their points first, so that the coincident copies
-   of an edge on the two sides of an earlier cut split at the same point. */
-static int edge_cross(aug_blade_cut *bc, const aug_edit *ed, int32_t *pa, int32_t *pb, double *s)
+   of an edge on the two sides of an earlier cut split at the same point.
+   Within a step the surface and the points are fixed and on[] only grows, so
+   an edge without a crossing keeps none: it is remembered in miss (the
+   several tets around an edge test it once). */
+static int edge_cross(aug_blade_cut *bc, const aug_edit *ed, aug_edgemap *miss, int32_t *pa, int32_t *pb,
+                      double *s)
 {
+    if (aug_edgemap_get(miss, *pa, *pb)) return 0;
     if (before(aug_edit_x(ed, *pb), aug_edit_x(ed, *pa))) {
         int32_t t = *pa;
         *pa = *pb;
@@ -364,33 +371,40 @@ static int edge_cross(aug_blade_cut *bc, const aug_edit *ed, int32_t *pa, int32_
     const double *xa = aug_edit_x(ed, a), *xb = aug_edit_x(ed, b);
     double lo[3], hi[3], p[3], q[3];
     for (int k = 0; k < 3; k++) lo[k] = fmin(xa[k], xb[k]), hi[k] = fmax(xa[k], xb[k]);
-    if (!clip_box(bc, lo, hi, bc->hon, p, q)) return 0;
-    if (aug_boxgrid_query(&bc->tg, p, q, &bc->buf2, &bc->nbuf2, &bc->capbuf2)) return -1;
-    for (int64_t i = 0; i < bc->nbuf2; i++) {
-        double t;
-        if (!aug_seg_tri(xa, xb, bc->soup.t + 9 * (int64_t)bc->buf2[i], bc->hon, &t)) continue;
-        if ((bc->on[a] && t <= bc->tol) || (bc->on[b] && t >= 1 - bc->tol)) continue;
-        *s = t;
-        return 1;
+    if (clip_box(bc, lo, hi, bc->hon, p, q)) {
+        if (aug_boxgrid_query(&bc->tg, p, q, &bc->buf2, &bc->nbuf2, &bc->capbuf2)) return -1;
+        for (int64_t i = 0; i < bc->nbuf2; i++) {
+            double t;
+            if (!aug_seg_tri(xa, xb, bc->soup.t + 9 * (int64_t)bc->buf2[i], bc->hon, &t)) continue;
+            if ((bc->on[a] && t <= bc->tol) || (bc->on[b] && t >= 1 - bc->tol)) continue;
+            *s = t;
+            return 1;
+        }
     }
-    return 0;
+    return aug_edgemap_put(miss, a, b) ? 0 : -1;
 }
 
-/* every node of el farther than 1e-9 h from t's plane, all on one side:
-   the triangle cannot meet the element */
-static int apart(const aug_blade_cut *bc, const aug_edit *ed, int32_t el, const double *t)
+/* the normal of triangle t (u x v of its sides from the first corner) in
+   n[0..2], its length in n[3] */
+static void tri_plane(const double *t, double n[4])
 {
-    double u[3], v[3], n[3];
+    double u[3], v[3];
     for (int k = 0; k < 3; k++) u[k] = t[3 + k] - t[k], v[k] = t[6 + k] - t[k];
     n[0] = u[1] * v[2] - u[2] * v[1];
     n[1] = u[2] * v[0] - u[0] * v[2];
     n[2] = u[0] * v[1] - u[1] * v[0];
-    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    n[3] = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+/* every node of el farther than 1e-9 h from the plane of triangle t (normal n,
+   tri_plane), all on one side: the triangle cannot meet the element */
+static int apart(const aug_blade_cut *bc, const aug_edit *ed, int32_t el, const double *t, const double *n)
+{
     int plus = 0, minus = 0;
     const int32_t *c = aug_edit_conn(ed, el);
     for (int a = 0; a < ed->m->nv; a++) {
         const double *x = aug_edit_x(ed, c[a]);
-        double d = (n[0] * (x[0] - t[0]) + n[1] * (x[1] - t[1]) + n[2] * (x[2] - t[2])) / l;
+        double d = (n[0] * (x[0] - t[0]) + n[1] * (x[1] - t[1]) + n[2] * (x[2] - t[2])) / n[3];
         plus += d > bc->hon;
         minus += d < -bc->hon;
     }
@@ -410,6 +424,7 @@ static const int tet_edge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3
 static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, aug_err *e)
 {
     queue w = {0};
+    aug_edgemap miss = {0};
     int32_t *nodes = NULL;
     int64_t nnodes = 0, capnodes = 0;
     if (on_grow(bc, aug_edit_nn(ed) + 1)) goto nomem;
@@ -418,11 +433,23 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
         tri_box(bc->soup.t + 9 * t, lo, hi);
         if (!clip_box(bc, lo, hi, bc->hon, a, b)) continue;
         if (aug_boxgrid_query(&bc->eg, a, b, &bc->buf, &bc->nbuf, &bc->capbuf)) goto nomem;
-        for (int64_t i = 0; i < bc->nbuf; i++)
-            if (!apart(bc, ed, bc->buf[i], bc->soup.t + 9 * t) && q_push(&w, bc->buf[i])) goto nomem;
+        double n[4];
+        tri_plane(bc->soup.t + 9 * t, n);
+        for (int64_t i = 0; i < bc->nbuf; i++) {
+            int32_t el = bc->buf[i];
+            if (el < w.capin && (w.in[el] & 1)) continue; /* queued for an earlier triangle */
+            if (!apart(bc, ed, el, bc->soup.t + 9 * t, n) && q_push(&w, el)) goto nomem;
+        }
     }
+    unsigned char *seen = aug_calloc((size_t)aug_edit_nn(ed) + 1, 1);
+    if (!seen) goto nomem;
     for (int64_t i = 0; i < w.n; i++)
-        if (mark_close(bc, ed, w.q[i])) goto nomem;
+        if (mark_close(bc, ed, w.q[i], seen)) {
+            free(seen);
+            goto nomem;
+        }
+    free(seen);
+    if (aug_edgemap_init(&miss, (size_t)(6 * w.n + 64))) goto nomem;
     int64_t budget = 64 * w.n + 64, head = 0;
     while (head < w.n) {
         int32_t el = w.q[head++];
@@ -433,7 +460,7 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
             int32_t a = c[tet_edge[k][0]], b = c[tet_edge[k][1]];
             if (bc->on[a] && bc->on[b]) continue;
             double s;
-            int rc = edge_cross(bc, ed, &a, &b, &s);
+            int rc = edge_cross(bc, ed, &miss, &a, &b, &s);
             if (rc < 0) goto nomem;
             if (!rc) continue;
             if (s <= bc->tol) {
@@ -447,6 +474,7 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
             int64_t ne = aug_edit_ne(ed);
             int32_t r = aug_split_edge(ed, NULL, a, b, s, e);
             if (r < 0) {
+                aug_edgemap_free(&miss);
                 free(w.q);
                 free(w.in);
                 return e->code;
@@ -466,6 +494,7 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
             break; /* el changed: it is queued again at r */
         }
     }
+    aug_edgemap_free(&miss);
     /* the faces on the surface among the elements examined */
     for (int64_t i = 0; i < w.n; i++) {
         int32_t el = w.q[i];
@@ -514,6 +543,7 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
     free(nodes);
     return 0;
 nomem:
+    aug_edgemap_free(&miss);
     free(w.q);
     free(w.in);
     free(nodes);

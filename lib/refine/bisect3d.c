@@ -157,7 +157,9 @@ static int split(ctx3 *c, int32_t a, int32_t b)
     return 0;
 }
 
-/* the worst aspect around edge {a, b} now, and after splitting it at its midpoint */
+/* the worst aspect around edge {a, b} now, and after splitting it at its midpoint;
+   both 0 (no split) when a tet around it belongs to a cut element a later step
+   re-writes (w->keep) */
 static int trial(ctx3 *c, int32_t a, int32_t b, double *now, double *after)
 {
     aug_work *w = c->w;
@@ -166,6 +168,10 @@ static int trial(ctx3 *c, int32_t a, int32_t b, double *now, double *after)
     double mid[3];
     for (int k = 0; k < 3; k++) mid[k] = 0.5 * (X(w, a)[k] + X(w, b)[k]);
     *now = *after = 0;
+    for (int64_t k = 0; k < ns; k++) { /* a tet a later cut step re-writes stays whole */
+        int32_t o = w->own[c->star[k]];
+        if (w->keep && o >= 0 && o < w->nkeep && w->keep[o] > w->step) return 0;
+    }
     for (int64_t k = 0; k < ns; k++) {
         const int32_t *v = C(w, c->star[k]);
         const double *p[4], *q1[4], *q2[4];

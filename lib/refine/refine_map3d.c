@@ -1,6 +1,7 @@
 /* A 3-D cut step carried over to the refined mesh: the cut's new nodes appended in
    its order, its re-wired and added tets mapped onto the work tets that still
-   coincide with the cut's (tets an earlier step bisected cannot be re-cut). */
+   coincide with the cut's (tets an earlier step bisected cannot be re-cut: refine's
+   look-ahead, aug_refiner_plan, keeps the tets a later step re-cuts whole). */
 #include <stdlib.h>
 #include <string.h>
 #include "aug_refine.h"

@@ -113,7 +113,28 @@ void aug_refiner_free(aug_refiner *r)
     free(r->cnode);
     free(r->own);
     free(r->map0);
+    free(r->last);
     memset(r, 0, sizeof *r);
+}
+
+int aug_refiner_plan(aug_refiner *r, const aug_mdelta *d, aug_err *e)
+{
+    for (int64_t i = 0; i < d->nmod; i++) {
+        int64_t t = d->elem[i];
+        if (t < 0) return aug_err_set(e, AUG_EDATA, -1, "MDLT", "step %d: changed element %d out of range",
+                                      (int)d->step, (int)t);
+        if (t >= r->nlast) {
+            int64_t c = r->nlast ? r->nlast : 1024;
+            while (c <= t) c *= 2;
+            int32_t *p = aug_realloc(r->last, (size_t)c * sizeof *p);
+            if (!p) return aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
+            for (int64_t k = r->nlast; k < c; k++) p[k] = -1;
+            r->last = p;
+            r->nlast = c;
+        }
+        if (d->step > r->last[t]) r->last[t] = d->step;
+    }
+    return 0;
 }
 
 /* parent scores of the base mesh's nodes: FIXD components first, then sets and
@@ -305,6 +326,8 @@ int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *bc, c
     }
     aug_parent_rule pr = {score, r->base.nn};
     aug_bisect_stats bs;
+    W->keep = r->last;
+    W->nkeep = r->nlast;
     W->max_new = r->opt.max_new > 0 ? r->opt.max_new : 1000 + 100 * (q->region > 0 ? q->region : d->nmod);
     rc = dim == 2 ? aug_bisect2d(W, seeds, ns, &r->opt, &pr, &bs, e)
                   : aug_bisect3d(W, seeds, ns, &r->opt, &pr, &bs, e);
