@@ -323,11 +323,9 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
         int64_t k = 0;
         for (int64_t t = 0; t < nout; t++)
             if (out[t] < c->nb) st[k++] = b->pinv[out[t]];
-        int32_t *tmp = aug_malloc((size_t)(b->n + 1) * sizeof *tmp);
-        if (!tmp) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+        int32_t *tmp = (int32_t *)a->t2; /* t2 (n + 1 doubles): free until the L^-T below */
         nq = aug_ldl_closure(b, st, k, tmp, a->mark);
         memcpy(a->q, tmp, (size_t)nq * sizeof *tmp);
-        free(tmp);
     } else {
         nq = b->n;
     }
