@@ -11,7 +11,7 @@
 
 static const char *synopsis =
     "solve-aug [FILE] [--method LIST] [--check] [--background] [--bg-lag N]\n"
-    "          [--output all|surface|SET] [--refine-iter N] [--refine-tol R]\n"
+    "          [--output all|surface|SET|node:ID,..] [--refine-iter N] [--refine-tol R]\n"
     "          [--amps-target R] [--amps-correct N] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
     "          [--reach path|cholmod] [--threads N] [--time-full] [--frames N] [--settle N]\n"
@@ -29,6 +29,8 @@ static const char *help =
     "                       auto: lets it choose one)\n"
     "  --bg-lag N           swap exactly N steps after each start (deterministic)\n"
     "  --output all|surface|SET  nodes whose displacement is solved and written\n"
+    "  --output node:ID[,ID...]  only these nodes (0-based, as in the stream), e.g. a\n"
+    "                       haptic tool contact\n"
     "  --refine-iter N      exactly N iterative refinement steps per solve (default 0:\n"
     "                       adaptive, see --refine-tol)\n"
     "  --refine-tol R       direct methods refine while relres > R, at most 3 steps,\n"
@@ -103,7 +105,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},
         {AUG_OPT_FLAG("--background", &so->background)},
         {AUG_OPT_INT("--bg-lag", &so->bg_lag, 1, 1000000, "a count >= 1"), .given = &nlag},
-        {AUG_OPT_STRING("--output", &o->output, "all, surface or a set name"), .flags = AUG_OPT_NONEMPTY},
+        {AUG_OPT_STRING("--output", &o->output, "all, surface, a set name or node:ID[,ID...]"), .flags = AUG_OPT_NONEMPTY},
         {AUG_OPT_INT("--refine-iter", &so->refine_iter, 0, 100, "0 to 100")},
         {AUG_OPT_REAL("--refine-tol", &so->refine_tol, 0, 1, "a number in [0, 1)"),
          .flags = AUG_OPT_HI_OPEN, .given = &nrtol},

@@ -24,7 +24,8 @@ void aug_replay_free(aug_replay *r)
 
 static int has_mesh(const aug_mesh *m) { return (m->have & AUG_HAVE_NODE) != 0; }
 
-/* --output: all, surface or a node set of the original mesh, replacing oUTs;
+/* --output: all, surface, a node set of the original mesh or node:ID[,ID...]
+   (0-based node indices, formats/stream.md 1), replacing oUTs;
    new nodes then inherit set membership from their parents */
 static int resolve_output(aug_replay *r, aug_err *e)
 {
@@ -50,6 +51,26 @@ static int resolve_output(aug_replay *r, aug_err *e)
             if (mark[i]) nodes[n++] = (int32_t)i;
         free(mark);
         m->out_kind = AUG_OUT_SURFACE;
+    } else if (!strncmp(want, "node:", 5)) {
+        /* node:ID[,ID...]: 0-based node indices of the stream's mesh, each once */
+        const char *p = want + 5;
+        for (;;) {
+            char *end;
+            long long id = strtoll(p, &end, 10);
+            if (end == p || id < 0 || id >= m->nn || (*end && *end != ',')) {
+                free(nodes);
+                return aug_err_set(e, AUG_EDATA, -1, "",
+                                   "--output %s: bad node id at '%.20s' (0 .. %lld)", want, p,
+                                   (long long)m->nn - 1);
+            }
+            int dup = 0;
+            for (int64_t k = 0; k < n; k++) dup |= nodes[k] == (int32_t)id;
+            if (!dup) nodes[n++] = (int32_t)id;
+            if (!*end) break;
+            p = end + 1;
+        }
+        m->out_kind = AUG_OUT_SET;
+        snprintf(m->out_name, sizeof m->out_name, "node");
     } else {
         const aug_set *s = aug_mesh_set(m, want);
         if (!s) {

@@ -126,12 +126,20 @@ static void ebar_times(const aug_amps *a, const aug_cum *c, const double *x, dou
 }
 
 /* y (permuted, n_b) = D^-1 sum_c V(:,c) w(col c) = D^-1 L^-1 P H w_H (eq. 3.20's
-   Kbar^-1 Hbar before L^-T); the consecutive tail of a column (the top of the
-   tree) as a dense axpy */
-static void v_times(const aug_amps *a, const aug_base *b, const double *wp, double *y)
+   Kbar^-1 Hbar before L^-T, paper 001); the consecutive tail of a column (the
+   top of the tree) as a dense axpy. set = NULL: y on all n entries; else y is
+   exact only on the closed set set[0..k) (the L^-T that follows reads nothing
+   else, paper 000 thm 2) and holds garbage elsewhere: only the set is cleared
+   and scaled by D^-1, the V columns added where they lie (O(|set| + nnz V),
+   not O(n), for a one-node output set) */
+static void v_times(const aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
+                    int64_t k, double *y)
 {
     const aug_memo *M = &a->memo;
-    memset(y, 0, (size_t)b->n * sizeof *y);
+    if (set)
+        for (int64_t t = 0; t < k; t++) y[set[t]] = 0;
+    else
+        memset(y, 0, (size_t)b->n * sizeof *y);
     for (int64_t j = 0; j < M->m; j++) {
         double wj = wp[M->col[j]];
         if (wj == 0) continue;
@@ -144,7 +152,7 @@ static void v_times(const aug_amps *a, const aug_base *b, const double *wp, doub
             for (int64_t k = 0; k < te - t; k++) yt[k] += vx[k] * wj;
         }
     }
-    aug_ldl_dsolve(b, NULL, 0, y);
+    aug_ldl_dsolve(b, set, set ? k : 0, y);
 }
 
 /* x (permuted, n_b) := the base part of [a_b; 0] + Kbar^-1 P_S wp on the
@@ -153,7 +161,7 @@ static void v_times(const aug_amps *a, const aug_base *b, const double *wp, doub
 static void closure_field(const aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
                           int64_t k, double *y)
 {
-    v_times(a, b, wp, y);
+    v_times(a, b, wp, set, k, y);
     aug_ldl_ltsolve_closure_super(b, set, k, y, a->t2);
 }
 
@@ -315,20 +323,18 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
         int64_t k = 0;
         for (int64_t t = 0; t < nout; t++)
             if (out[t] < c->nb) st[k++] = b->pinv[out[t]];
-        int32_t *tmp = aug_malloc((size_t)(b->n + 1) * sizeof *tmp);
-        if (!tmp) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+        int32_t *tmp = (int32_t *)a->t2; /* t2 (n + 1 doubles): free until the L^-T below */
         nq = aug_ldl_closure(b, st, k, tmp, a->mark);
         memcpy(a->q, tmp, (size_t)nq * sizeof *tmp);
-        free(tmp);
     } else {
         nq = b->n;
     }
     /* the field of w, then (corrected) the field of dw added to it */
     for (int pass = 0; pass < (a->ncorrect > 0 ? 2 : 1); pass++) {
         double *yp = pass ? a->hc->yd : y;
-        v_times(a, b, pass ? dw : wp, yp);
+        v_times(a, b, pass ? dw : wp, out ? a->q : NULL, nq, yp);
         if (out)
-            aug_ldl_ltsolve(b, a->q, nq, yp);
+            aug_ldl_ltsolve_closure_super(b, a->q, nq, yp, a->t2);
         else if (aug_ldl_ltsolve_all(b, yp, &a->X, &a->Yw, &a->Ew, cm))
             return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
         if (pass)
@@ -403,7 +409,7 @@ int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
     /* a2 = S2^-1 Hbar'Kbar^-1 r; x = Kbar^-1 (r + Hbar Ebar a2) */
     aug_schur_solve(s, xa);
     ebar_times(a, c, xa, wp);
-    v_times(a, b, wp, y);
+    v_times(a, b, wp, NULL, 0, y);
     for (int64_t t = 0; t < b->n; t++) y[t] += z[t];
     if (aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm))
         return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
