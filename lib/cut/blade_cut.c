@@ -157,6 +157,21 @@ static int snap_cut(void *ctx, const aug_edit *ed, int32_t a, int32_t b, const i
     return aug_edgemap_get(&bc->pairs, a, b) != NULL;
 }
 
+/* separate each distinct node of nodes[0..n) (sorted here, increasing: the
+   order the plane cut uses) along the faces cut() accepts (aug_separate_node) */
+static int separate_all(aug_edit *ed, int32_t *nodes, int64_t n, aug_cutface_fn cut, aug_blade_cut *bc,
+                        aug_err *e)
+{
+    if (n > 1) qsort(nodes, (size_t)n, sizeof *nodes, aug_cmp_i32);
+    for (int64_t i = 0; i < n; i++) {
+        if (i && nodes[i] == nodes[i - 1]) continue;
+        int nc, rc = aug_separate_node(ed, nodes[i], cut, NULL, bc, &nc, e);
+        if (rc) return rc;
+    }
+    return 0;
+}
+
+
 /* Snap (AMPS sec. 4.3.2, node duplication, with the plane's side test
    generalised): the face between face neighbours A and B is cut when the
    segment between their centroids crosses a triangle of the surface
@@ -207,20 +222,11 @@ static int snap_step(aug_blade_cut *bc, aug_edit *ed, const aug_facenbr *fn, int
         for (int q = 0; q < k; q++) nodes[nnodes++] = f[q];
         bc->nface++;
     }
-    for (int64_t i = 1; i < nnodes; i++)
-        for (int64_t j = i; j > 0 && nodes[j - 1] > nodes[j]; j--) {
-            int32_t x = nodes[j];
-            nodes[j] = nodes[j - 1];
-            nodes[j - 1] = x;
-        }
-    for (int64_t i = 0; i < nnodes; i++) {
-        if (i && nodes[i] == nodes[i - 1]) continue;
-        int nc, rc = aug_separate_node(ed, nodes[i], snap_cut, NULL, bc, &nc, e);
-        if (rc) {
-            free(np);
-            free(nodes);
-            return rc;
-        }
+    int rc = separate_all(ed, nodes, nnodes, snap_cut, bc, e);
+    if (rc) {
+        free(np);
+        free(nodes);
+        return rc;
     }
     free(np);
     free(nodes);
@@ -519,21 +525,12 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
             bc->nface++;
         }
     }
-    for (int64_t i = 1; i < nnodes; i++)
-        for (int64_t j = i; j > 0 && nodes[j - 1] > nodes[j]; j--) {
-            int32_t x = nodes[j];
-            nodes[j] = nodes[j - 1];
-            nodes[j - 1] = x;
-        }
-    for (int64_t i = 0; i < nnodes; i++) {
-        if (i && nodes[i] == nodes[i - 1]) continue;
-        int nc, rc = aug_separate_node(ed, nodes[i], split_cut, NULL, bc, &nc, e);
-        if (rc) {
-            free(w.q);
-            free(w.in);
-            free(nodes);
-            return rc;
-        }
+    int rc = separate_all(ed, nodes, nnodes, split_cut, bc, e);
+    if (rc) {
+        free(w.q);
+        free(w.in);
+        free(nodes);
+        return rc;
     }
     /* the copies of nodes on the surface are on it */
     if (on_grow(bc, aug_edit_nn(ed) + 1)) goto nomem;
