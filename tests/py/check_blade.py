@@ -374,29 +374,10 @@ def star_check(cm, pairs, cut, where):
             if x[v] in pts:
                 at.setdefault(x[v], set()).add(e)
     for P, es in at.items():
-        es = sorted(es)
-        up = {e: e for e in es}
-
-        def root(e):
-            while up[e] != e:
-                up[e] = up[up[e]]
-                e = up[e]
-            return e
-        byface = {}
-        for e in es:
-            for fc in conform.faces_of(conn[e]):
-                if any(x[v] == P for v in fc):
-                    byface.setdefault(conform.geo_key(x, fc), []).append(e)
-        for key, fe in byface.items():
-            if len(fe) == 2 and not cut(fe[0], fe[1], key):
-                a, b = root(fe[0]), root(fe[1])
-                up[max(a, b)] = min(a, b)
-        classes = {}
-        for e in es:
-            classes.setdefault(root(e), []).append(e)
+        classes = conform.star_classes(x, conn, sorted(es), P,
+                                       lambda key, fe, i: len(fe) == 2 and not cut(fe[0], fe[1], key))
         used = {}
-        for r, ce in classes.items():
-            nodes = {v for e in ce for v in conn[e] if x[v] == P}
+        for ce, nodes in classes:
             if len(nodes) != 1:
                 fail(where + "at %s the elements %s hang together across faces the surface does not cross but hold"
                      " the nodes %s" % (P, ce[:6], sorted(nodes)))

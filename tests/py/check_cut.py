@@ -277,29 +277,9 @@ class Checker:
         x, conn = self.cm.x, self.cm.conn
         if elems is None:
             elems = sorted({e for v in at[P] for e in node_elems.get(v, ())})
-        up = {e: e for e in elems}
-
-        def root(e):
-            while up[e] != e:
-                up[e] = up[up[e]]
-                e = up[e]
-            return e
-        byface = {}
-        for e in elems:
-            for f in conform.faces_of(conn[e]):
-                if any(x[v] == P for v in f):
-                    byface.setdefault(conform.geo_key(x, f), []).append(e)
-        for key, es in byface.items():
-            for i in range(1, len(es)):
-                if not cut(key, es[0], es[i]):
-                    a, b = root(es[0]), root(es[i])
-                    up[max(a, b)] = min(a, b)
-        classes = {}
-        for e in elems:
-            classes.setdefault(root(e), []).append(e)
+        classes = conform.star_classes(x, conn, elems, P, lambda key, es, i: not cut(key, es[0], es[i]))
         out, used = [], {}
-        for r, es in sorted(classes.items()):
-            nodes = {v for e in es for v in conn[e] if x[v] == P}
+        for es, nodes in classes:
             if len(nodes) != 1:
                 self.fail("at %s the elements %s hang together across uncut faces but hold the nodes %s"
                           % (P, es[:6], sorted(nodes)))

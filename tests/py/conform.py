@@ -67,6 +67,34 @@ def geo_key(x, f):
     return tuple(sorted(x[v] for v in f))
 
 
+
+def star_classes(x, conn, elems, P, joined):
+    """the elements elems (each with a corner at point P) in classes connected
+    through their coincident faces at P: the elements es of one face are joined
+    where joined(key, es, i) is true for es[0] and es[i]; returns
+    [(class elements, {nodes of the class at P})] in order of the first element"""
+    up = {e: e for e in elems}
+
+    def root(e):
+        while up[e] != e:
+            up[e] = up[up[e]]
+            e = up[e]
+        return e
+    byface = {}
+    for e in elems:
+        for f in faces_of(conn[e]):
+            if any(x[v] == P for v in f):
+                byface.setdefault(geo_key(x, f), []).append(e)
+    for key, es in byface.items():
+        for i in range(1, len(es)):
+            if joined(key, es, i):
+                a, b = root(es[0]), root(es[i])
+                up[max(a, b)] = min(a, b)
+    classes = {}
+    for e in elems:
+        classes.setdefault(root(e), []).append(e)
+    return [(es, {v for e in es for v in conn[e] if x[v] == P}) for r, es in sorted(classes.items())]
+
 class FaceIndex:
     """faces given by their corner coordinates, for 'does this face lie in one
     of them' (points within tol of the face's line or plane and inside it)"""
