@@ -38,9 +38,9 @@ unset ASAN_OPTIONS UBSAN_OPTIONS
 
 run_shell() { # $1 test file, $2 label prefix; AUG_BIN as exported
     name=$2$(basename "$1" .test)
-    tmp=$(mktemp -d)
+    tmp=$(mktemp -d); t0=$(date +%s)
     if (cd "$tmp" && TMP="$tmp" sh "$AUG_ROOT/$1") > "$tmp/.out" 2>&1; then
-        pass=$((pass + 1)); echo "PASS $name" >> $log
+        pass=$((pass + 1)); echo "PASS $name ($(( $(date +%s) - t0 )) s)" >> $log
     else
         fail=$((fail + 1)); echo "FAIL $name"; tail -15 "$tmp/.out" | sed 's/^/    /'
         echo "FAIL $name" >> $log; cat "$tmp/.out" >> $log

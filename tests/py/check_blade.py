@@ -103,7 +103,7 @@ class Grid:
     """triangles bucketed by their boxes, for the distance and crossing queries"""
 
     def __init__(self, h):
-        self.h, self.cells, self.tris = h, {}, []
+        self.h, self.cells, self.tris, self.boxes = h, {}, [], []
 
     def keys(self, lo, hi):
         a = [int(math.floor(v / self.h)) for v in lo]
@@ -113,6 +113,7 @@ class Grid:
     def add(self, t, box):
         i = len(self.tris)
         self.tris.append(t)
+        self.boxes.append(([min(p[k] for p in t) for k in range(3)], [max(p[k] for p in t) for k in range(3)]))
         lo = [max(min(p[k] for p in t), box[0][k]) for k in range(3)]
         hi = [min(max(p[k] for p in t), box[1][k]) for k in range(3)]
         if any(lo[k] > hi[k] for k in range(3)):
@@ -121,12 +122,16 @@ class Grid:
             self.cells.setdefault(c, []).append(i)
 
     def near(self, lo, hi):
+        """the triangles whose boxes meet the box [lo, hi]"""
         s = set()
         for c in self.keys(lo, hi):
             s.update(self.cells.get(c, ()))
-        return [self.tris[i] for i in sorted(s)]
+        bx = self.boxes
+        return [self.tris[i] for i in sorted(s)
+                if all(bx[i][0][k] <= hi[k] and bx[i][1][k] >= lo[k] for k in range(3))]
 
     def dist(self, p, lim):
+        """the distance of p to the nearest triangle if it is below lim, else 2 lim + 1"""
         ts = self.near([v - lim for v in p], [v + lim for v in p])
         return min([point_tri(p, t) for t in ts] + [2 * lim + 1])
 
