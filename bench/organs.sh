@@ -18,7 +18,8 @@
 # Per-step CSVs bench/out/organs_SCENE_KIND_METHOD.csv; medians and ratios in
 # bench/out/organs_summary.csv (organs_tools.py summary); PNGs with gnuplot.
 # QUICK=1: liver and sphere3 only, 8 + 4 steps, the 2-D square in 4 steps,
-# beam h=64 and brick N=8 (a few minutes); SCENES, STEPS1, STEPSM, METHODS,
+# beam h=64 and brick N=8 (a few minutes; the full run: beam h=256, bricks N=16
+# and N=20, the sizes of the goals of issue 15); SCENES, STEPS1, STEPSM, METHODS,
 # SPLIT_SCENES may be set.
 cd "$(dirname "$0")/.." || exit 2
 B=bin; S=build/scenes; O=bench/out; T=${TMPDIR:-/tmp}/organs.$$; mkdir -p $O $T
@@ -33,7 +34,7 @@ if [ "${QUICK:-0}" = 1 ]; then
 fi
 SCENES=${SCENES:-"brain bunny liver sphere3"}
 STEPS1=${STEPS1:-64}; STEPSM=${STEPSM:-16}; SQSTEPS=${SQSTEPS:-8}
-SPLIT_SCENES=${SPLIT_SCENES:-"beam_h256 brick_n16"}
+SPLIT_SCENES=${SPLIT_SCENES:-"beam_h256 brick_n16 brick_n20"}
 for t in meshload factor cut refine solve-aug stats; do
     [ -x $B/$t ] || { echo "organs.sh: $B/$t missing (make first)" >&2; exit 1; }
 done
