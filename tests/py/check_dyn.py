@@ -32,7 +32,8 @@ import cutsys  # noqa: E402
 
 
 def mass(P, dim, mat, lumped):
-    """element mass of the simplex with corners P: rho * measure (* t in 2-D)
+    """element mass of the simplex with corners P: rho * measure (* t in 2-D
+    and for the 3-D membrane triangle)
     shared as 1/(nv) (lumped) or (1 + delta_ab) / ((nv)(nv+1)) (consistent);
     of the trilinear hex (8 corners): rho sum_q det J N_a N_b over the 2x2x2
     Gauss points (cutsys.hex_points), lumped: its row sums"""
@@ -50,8 +51,9 @@ def mass(P, dim, mat, lumped):
                 for i in range(3):
                     Me[x * 3 + i][y * 3 + i] = v
         return Me
-    w = rho * abs(augstream.corners_measure(P)) * (t if dim == 2 else 1.0)
-    nv = dim + 1
+    mem3 = dim == 3 and len(P) == 3  # the membrane triangle (formats 5.3): t A, 3 corners
+    w = rho * abs(augstream.corners_measure(P)) * (t if dim == 2 or mem3 else 1.0)
+    nv = len(P)
     Me = [[0.0] * (nv * dim) for _ in range(nv * dim)]
     for x in range(nv):
         for y in range(nv):
@@ -68,7 +70,7 @@ def assemble(cm, lumped):
     for e, conn in enumerate(cm.conn):
         P = [cm.x[v] for v in conn]
         mat = cm.mats[cm.mat[e]]
-        Ke = cutsys.stiffness(P, dim, mat)
+        Ke = cutsys.stiffness(P, dim, mat, cm.kf[cm.mat[e]])
         Me = mass(P, dim, mat, lumped)
         dofs = [conn[a] * dim + c for a in range(nv) for c in range(dim)]
         for a, da in enumerate(dofs):

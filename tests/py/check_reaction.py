@@ -10,8 +10,10 @@ inherited by copies; set membership inherited by copies):
   - every reaction equals (K u - f) at its DOF to --rel relative (of the
     largest |K u - f|), K u summed here over the elements (cutsys.stiffness)
     that hold the DOF's node, f the nodal loads and the body force (GRAV);
-  - the reactions balance the loads: |sum r_c + sum f_c| <= --rel (sum |r_c| +
-    sum |f_c|) for every component c;
+  - the reactions balance the loads and the foundation's forces (FNDN, the
+    Winkler foundation under membrane triangles: -Kf u summed over all DOFs):
+    |sum r_c + sum f_c - sum (Kf u)_c| <= --rel (sum |r_c| + sum |f_c| +
+    |sum (Kf u)_c|) for every component c;
   - total is the sum of the reactions per component, and the sets are the
     stream's named sets that hold a constrained DOF, in stream order, each with
     the sum of the reactions at its constrained DOFs (1e-12 relative of sum |r|).
@@ -96,12 +98,29 @@ class Scene(cutsys.CutMesh):
             dofs = [v * dim + c for v in conn for c in range(dim)]
             if not any(d in self.fix for d in dofs):
                 continue
-            Ke = cutsys.stiffness([self.x[v] for v in conn], dim, self.mats[self.mat[e]])
+            Ke = cutsys.stiffness([self.x[v] for v in conn], dim, self.mats[self.mat[e]], self.kf[self.mat[e]])
             ue = [u[d] for d in dofs]
             for a, d in enumerate(dofs):
                 if d in self.fix:
                     r[d] += sum(k * w for k, w in zip(Ke[a], ue))
         return r
+
+    def foundation_force(self, u):
+        """per component, the total force the foundation (FNDN, formats 5.9)
+        exerts on the sheet, sum over the elements of Kf_e u_e, Kf_e the
+        element's foundation term alone (zero without a foundation)"""
+        dim, tot = self.dim, [0.0] * self.dim
+        for e, conn in enumerate(self.conn):
+            kf = self.kf[self.mat[e]]
+            if not kf:
+                continue
+            P = [self.x[v] for v in conn]
+            mat = self.mats[self.mat[e]]
+            K1, K0 = cutsys.stiffness(P, dim, mat, kf), cutsys.stiffness(P, dim, mat)
+            ue = [u[v * dim + c] for v in conn for c in range(dim)]
+            for a in range(len(ue)):
+                tot[a % dim] += sum((k1 - k0) * w for k1, k0, w in zip(K1[a], K0[a], ue))
+        return tot
 
 
 def check(sc, f, u, rel):
@@ -120,13 +139,15 @@ def check(sc, f, u, rel):
         k = max(range(len(dofs)), key=lambda k: abs(r[k] - ref[dofs[k]]))
         return "DOF %d: reaction %.17g, K u - f = %.17g (%.3g relative)" % (dofs[k], r[k], ref[dofs[k]], err), err, 0
     bal = 0.0
+    fk = sc.foundation_force(u)
     for c in range(dim):
         rc = [a for a, d in zip(r, dofs) if d % dim == c]
-        fc = [v for d, v in sc.forces().items() if d % dim == c]
+        fc = [v for d, v in sc.forces().items() if d % dim == c] + [-fk[c]]
         b = abs(sum(rc) + sum(fc)) / max(sum(map(abs, rc)) + sum(map(abs, fc)), 1e-300)
         bal = max(bal, b)
         if not b <= rel:
-            return "component %d: sum of reactions %.17g + sum of loads %.17g (%.3g)" % (c, sum(rc), sum(fc), b), err, bal
+            return "component %d: sum of reactions %.17g + sum of loads and foundation forces %.17g (%.3g)" \
+                % (c, sum(rc), sum(fc), b), err, bal
         if not abs(f["total"][c] - sum(rc)) <= 1e-12 * max(sum(map(abs, rc)), 1e-300):
             return "total[%d] %.17g, sum of the reactions %.17g" % (c, f["total"][c], sum(rc)), err, bal
     want = [s for s, nodes in sc.sets if any(d // dim in nodes for d in dofs)]
