@@ -2,6 +2,7 @@
 # The fuzz seed corpus fuzz/corpus/: small real streams of the bundled scenes
 # (brick N = 1, beam h = 2, the square at 4 x 4 nodes), one per stage of the
 # pipelines, so that every record type starts out valid behind its CRC.
+# Also the text inputs of cut (path, blade and STL files) for fuzz_inputs.c.
 # Run from the repository root after `make all`: sh fuzz/make_corpus.sh
 set -eu
 B=bin; O=fuzz/corpus; T=${TMPDIR:-/tmp}/augcut-corpus.$$
@@ -34,8 +35,16 @@ $B/meshload "$T/square.msh" --fix fixed --load top:0,-1,0 --material square:E=2,
 $B/solve-aug < "$O/square_cut.aug" > "$O/square_solve.aug"
 $B/refine --min-angle 20 < "$O/square_cut.aug" > "$O/square_refine.aug"
 
+# the text inputs of cut for fuzz/fuzz_inputs.c: its first byte picks the
+# reader ('0' path, '1' blade, '2' STL), the rest is the file
+{ printf '0'; printf 'line 0.1 0.2 0.9 0.3\npolyline 0 0 0.5 0.5 1 0.2\nbezier 0 0 0.2 0.8 0.5 -0.3 0.7 0.6 1 0\n'
+  printf 'rbezier 0 0 1 0.5 1 2 1 0 1\narc 1 0 1 1 0 1 0.7071\ncircle 0.5 0.5 0.2\n'; } > "$O/input_path.txt"
+{ printf '1'; printf '# a curved stroke\nblade 0 0 1 1 0 1\ncurve 0 0.5 0.5 1 0.4 0.5\nblade 0 1 0 1 1 0\n'; } > "$O/input_blade.txt"
+{ printf '2'; printf 'solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n'
+  printf 'facet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n'; } > "$O/input_stl.txt"
+
 # deflated records (every payload of 64 bytes and more) and every record type,
 # MODE included, from the stream unit test
 build/tests/stream_io > /dev/null
 AUG_WRITE_SEED="$O/all_records_deflated.aug" build/tests/stream_io
-du -cb "$O"/*.aug | tail -1
+du -cb "$O"/* | tail -1
