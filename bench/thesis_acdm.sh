@@ -127,14 +127,14 @@ done
 column -s, -t < $CC
 column -s, -t < $CG
 awk -F, 'NR > 1 { n++; ok += $4 >= 20 - 1e-9 && $5 <= 3 + 1e-9
-                  for (g = 0; g < 3; g++) { c = 9 + 6 * g; f[g] += $3 < $(c + 1); r[g] += $3 / ($(c + 1) > 0 ? $(c + 1) : 1)
+                  for (g = 0; g < 3; g++) { c = 9 + 6 * g; f[g] += $3 < $(c + 1); r[g] += $(c + 1)
                                             t[g] += $c; m[g] += ($(c + 4) == 0); ms[g] += $(c + 5) }
-                  rms += $7 }
+                  rms += $7; ra += $3 }
          END { split("segments-Delaunay curve-Delaunay curve-Frontal", nm, " ")
-               printf "gmsh: refine meets min angle 20 and aspect 3 on %d of %d cuts, %.1f ms mean (remesh + bisect)\n", ok, n, rms / n
+               printf "gmsh: refine meets min angle 20 and aspect 3 on %d of %d cuts, adds %.0f elements, %.1f ms mean (remesh + bisect)\n", ok, n, ra / n, rms / n
                for (g = 0; g < 3; g++)
-                   printf "gmsh %s: refine adds fewer elements on %d of %d cuts (refine / gmsh added %.3f mean); gmsh writes %.0f triangles (all new), meets the bound on %d of %d, %.1f ms mean\n",
-                          nm[g + 1], f[g], n, r[g] / n, t[g] / n, m[g], n, ms[g] / n }' $CG
+                   printf "gmsh %s: adds %.0f elements mean (refine adds fewer on %d of %d cuts, refine / gmsh %.3f); writes %.0f triangles (all new), meets the bound on %d of %d, %.1f ms mean\n",
+                          nm[g + 1], r[g] / n, f[g], n, ra / r[g], t[g] / n, m[g], n, ms[g] / n }' $CG
 
 CL=$OUT/thesis_acdm_claims.csv
 $T claims $CF $CC > $CL || exit 1
@@ -147,6 +147,7 @@ set output "$OUT/thesis_acdm.png"
 set datafile separator ","
 set multiplot layout 2,3
 set title "fig. 5.2: lowest frame rate per cut and new elements"
+set key top left font ",9"
 set xlabel "run"; set ylabel "frames / s"; set y2label "new elements"; set ytics nomirror; set y2tics
 plot "$CF" every ::1 using 1:22 with linespoints pt 7 title "pcg, subdivided", "" every ::1 using 1:23 with linespoints pt 5 title "amps, subdivided", \
      "" every ::1 using 1:21 with linespoints pt 4 title "pcg, cut only", 30 dt 2 title "30 FPS", \
@@ -172,7 +173,7 @@ plot "$CC" every ::1 using 0:4 with points pt 6 title "intersected", "" every ::
      "" every ::1 using 0:9 axes x1y2 with lines title "aspect after (thesis)"
 unset y2tics; unset y2label; set ytics mirror
 set title "refine vs a global gmsh re-mesh: elements added"
-set logscale y; set ylabel "elements"
+set logscale y; set ylabel "elements"; set key bottom right font ",9"
 plot "$CG" every ::1 using 0:3 with points pt 7 title "refine (angle 20, aspect 3)", "" every ::1 using 0:10 with points pt 5 title "gmsh, cut segments, Delaunay", \
      "" every ::1 using 0:16 with points pt 9 title "gmsh, cut curves, Delaunay", "" every ::1 using 0:22 with points pt 11 title "gmsh, cut curves, Frontal", \
      "" every ::1 using 0:21 with points pt 4 title "gmsh, cut curves, Frontal: all triangles (all new)"
