@@ -56,10 +56,10 @@ sumc() { awk -F, -v m="$2" -v k="$3" 'NR == 1 { for (i = 1; i <= NF; i++) h[$i] 
 
 # pcg_as LABEL STREAM OUTCSV NAME PREC: pcg --pcg-prec PREC on STREAM, its rows
 # appended to OUTCSV as method NAME
-pcg_as() { l=$1 s=$2 o=$3 name=$4 p=$5
+pcg_as() { pl=$1 po=$3 pn=$4
     : > $TMP/pa.csv
-    solve "$l" "$s" $TMP/pa.csv --method pcg --pcg-prec "$p" || return 1
-    sed "s/^$l,\([0-9]*\),pcg,/$l,\1,$name,/" $TMP/pa.csv >> "$o"; rm -f $TMP/pa.csv; }
+    solve "$1" "$2" $TMP/pa.csv --method pcg --pcg-prec "$5" || return 1 # solve sets l, s, o
+    sed "s/^$pl,\([0-9]*\),pcg,/$pl,\1,$pn,/" $TMP/pa.csv >> "$po"; rm -f $TMP/pa.csv; }
 
 # ---- tables 5.1-5.2
 C52=$OUT/thesis_t52.csv
