@@ -16,5 +16,6 @@ run dynamics.sh
 run modal.sh
 run blade.sh
 run thesis.sh
+run thesis_acdm.sh
 run organs.sh
 exit $status

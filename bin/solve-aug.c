@@ -15,7 +15,7 @@ static const char *synopsis =
     "          [--amps-target R] [--amps-correct N] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
     "          [--reach path|cholmod] [--threads N] [--time-full] [--frames N] [--settle N]\n"
-    "          [--no-reactions] [--pcg-prec none|jacobi|ic] [--cgm-eps E] [--cgm-p P]\n"
+    "          [--no-reactions] [--pcg-prec none|jacobi|ic|ic-amd] [--cgm-eps E] [--cgm-p P]\n"
     "          [--cgm-max-n N] [--ns-tol T] [--ns-maxit N] [-h]";
 
 static const char *help =
@@ -55,7 +55,8 @@ static const char *help =
     "  --time-full          time one full CHOLMOD solve of the base every step\n"
     "                       (full_solve_ms; default: the median of 5 at the start)\n"
     "  --no-reactions       no reaction forces (rEAC) per step\n"
-    "  --pcg-prec P         pcg preconditioner: none, jacobi (default) or ic (IC(0))\n"
+    "  --pcg-prec P         pcg preconditioner: none, jacobi (default), ic (IC(0)) or\n"
+    "                       ic-amd (IC(0) on the AMD ordering)\n"
     "  --cgm-eps E          cgm-*: D' = D + E I, AS: COV + E I (default 1e-6)\n"
     "  --cgm-p P            cgm-es: exponent of D' (default 0.5)\n"
     "  --cgm-max-n N        cgm-*: refuse K_t of order above N (dense; default 8400)\n"
@@ -77,7 +78,7 @@ static const aug_word precs[] = {
 static const aug_word singular[] = {{"error", 0}, {"report", 1}, {NULL, 0}};
 static const aug_word reaches[] = {{"path", 0}, {"cholmod", 1}, {NULL, 0}};
 static const aug_word pcg_precs[] = {
-    {"none", AUG_PCG_NONE}, {"jacobi", AUG_PCG_JACOBI}, {"ic", AUG_PCG_IC}, {NULL, 0}};
+    {"none", AUG_PCG_NONE}, {"jacobi", AUG_PCG_JACOBI}, {"ic", AUG_PCG_IC}, {"ic-amd", AUG_PCG_IC_AMD}, {NULL, 0}};
 
 /* --method LIST: the methods in order */
 static int methods(aug_tool *t, const char *opt, const char *val, void *dst)
@@ -124,7 +125,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_THREADS(&so->nthreads)},
         {AUG_OPT_INT("--frames", &o->frames, 1, 100000000, "a count >= 1"), .given = &o->nframes},
         {AUG_OPT_INT("--settle", &o->settle, 0, 100000000, "a count >= 0")},
-        {AUG_OPT_CHOICE("--pcg-prec", &so->pcg_prec, pcg_precs, "none, jacobi or ic")},
+        {AUG_OPT_CHOICE("--pcg-prec", &so->pcg_prec, pcg_precs, "none, jacobi, ic or ic-amd")},
         {AUG_OPT_REAL("--cgm-eps", &so->cgm.eps, 0, 1e300, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
         {AUG_OPT_REAL("--cgm-p", &so->cgm.p, 0, 1e300, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
         {AUG_OPT_INT("--cgm-max-n", &max_n, 1, 46340, "1 to 46340")},

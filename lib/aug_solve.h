@@ -389,8 +389,10 @@ int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int
             int *converged, int *breakdown, double *relres, cholmod_common *cm);
 /* The same with preconditioner prec: none (M = I), Jacobi (M = diag(K)) or IC
    (M = R'R, IC(0) of K, ichol.c); *shift (may be NULL): the IC diagonal shift
-   used. Returns iterations, -1 out of memory or no IC(0) exists. */
-enum { AUG_PCG_NONE, AUG_PCG_JACOBI, AUG_PCG_IC };
+   used. AUG_PCG_IC_AMD: IC(0) of P'KP, P the AMD ordering of K's pattern
+   (ichol_amd.c), M = P R'R P'. Returns iterations, -1 out of memory or no
+   IC(0) exists. */
+enum { AUG_PCG_NONE, AUG_PCG_JACOBI, AUG_PCG_IC, AUG_PCG_IC_AMD };
 int aug_pcg_prec(const cholmod_sparse *K, const double *f, double *x, int prec, double tol,
                  int maxit, int *converged, int *breakdown, double *relres, double *shift,
                  cholmod_common *cm);
@@ -403,9 +405,16 @@ typedef struct aug_ichol {
     int *p, *i;          /* columns of R, rows ascending, the diagonal last */
     double *x, *k;       /* R, and K's values while factoring */
     double shift;
+    int *perm;           /* NULL, or row k of R is K's row perm[k] (ichol_amd.c) */
+    double *w;           /* n doubles of workspace when perm is set */
 } aug_ichol;
 int aug_ichol_factor(const cholmod_sparse *K, aug_ichol *R);
-/* z = (R'R)^-1 r */
+/* ichol_amd.c: the same IC(0) of P'KP, P the AMD fill-reducing ordering of
+   K's pattern (SuiteSparse AMD through cholmod_amd), R->perm = P: R'R ~
+   P'(K + shift diag(K))P. 0, -1 out of memory or no ordering, 1 no shift
+   worked. */
+int aug_ichol_factor_amd(const cholmod_sparse *K, aug_ichol *R, cholmod_common *cm);
+/* z = (R'R)^-1 r, or z = P (R'R)^-1 P' r when R->perm is set */
 void aug_ichol_apply(const aug_ichol *R, const double *r, double *z);
 void aug_ichol_free(aug_ichol *R);
 

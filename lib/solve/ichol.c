@@ -7,7 +7,7 @@
 
 void aug_ichol_free(aug_ichol *R)
 {
-    free(R->p), free(R->i), free(R->x);
+    free(R->p), free(R->i), free(R->x), free(R->perm), free(R->w);
     memset(R, 0, sizeof *R);
 }
 
@@ -88,19 +88,32 @@ int aug_ichol_factor(const cholmod_sparse *K, aug_ichol *R)
     return rc;
 }
 
-/* z = (R'R)^-1 r: R'y = r forward by columns of R, then R z = y backward */
-void aug_ichol_apply(const aug_ichol *R, const double *r, double *z)
+/* v := (R'R)^-1 v: R'y = v forward by columns of R, then R v = y backward */
+static void solve_inplace(const aug_ichol *R, double *v)
 {
     const int *Rp = R->p, *Ri = R->i;
     const double *Rx = R->x;
     for (int j = 0; j < R->n; j++) {
-        double s = r[j];
-        for (int q = Rp[j]; q < Rp[j + 1] - 1; q++) s -= Rx[q] * z[Ri[q]];
-        z[j] = s / Rx[Rp[j + 1] - 1];
+        double s = v[j];
+        for (int q = Rp[j]; q < Rp[j + 1] - 1; q++) s -= Rx[q] * v[Ri[q]];
+        v[j] = s / Rx[Rp[j + 1] - 1];
     }
     for (int j = R->n - 1; j >= 0; j--) {
-        z[j] /= Rx[Rp[j + 1] - 1];
-        double zj = z[j];
-        for (int q = Rp[j]; q < Rp[j + 1] - 1; q++) z[Ri[q]] -= Rx[q] * zj;
+        v[j] /= Rx[Rp[j + 1] - 1];
+        double vj = v[j];
+        for (int q = Rp[j]; q < Rp[j + 1] - 1; q++) v[Ri[q]] -= Rx[q] * vj;
     }
+}
+
+/* z = (R'R)^-1 r, or z = P (R'R)^-1 P' r with P = R->perm (ichol_amd.c) */
+void aug_ichol_apply(const aug_ichol *R, const double *r, double *z)
+{
+    if (!R->perm) {
+        if (z != r) memcpy(z, r, (size_t)R->n * sizeof *z);
+        solve_inplace(R, z);
+        return;
+    }
+    for (int k = 0; k < R->n; k++) R->w[k] = r[R->perm[k]];
+    solve_inplace(R, R->w);
+    for (int k = 0; k < R->n; k++) z[R->perm[k]] = R->w[k];
 }

@@ -1,5 +1,6 @@
 /* Baseline: preconditioned conjugate gradients on the cut matrix ([Saad]
-   ch. 9; Hestenes-Stiefel): no, Jacobi or IC(0) preconditioner. */
+   ch. 9; Hestenes-Stiefel): no, Jacobi or IC(0) preconditioner, IC(0) on
+   the natural or the AMD ordering. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,7 +39,8 @@ static void prec_apply(const aug_ichol *R, const double *dinv, const double *r, 
 }
 
 /* x := PCG on K x = f from the given x ([Saad] ch. 9), M = I, diag(K) (1
-   where K(j,j) <= 0) or the IC(0) R'R of K (ichol.c; its shift in *shift):
+   where K(j,j) <= 0), the IC(0) R'R of K (ichol.c; its shift in *shift) or
+   P R'R P', IC(0) of P'KP on the AMD ordering P (ichol_amd.c):
    iterates while the recursive ||r|| > tol ||f|| (||f|| := 1 when f = 0),
    restarting from the true residual when it has drifted (at most 5 passes);
    breakdown when p'Kp <= 0. relres = true ||f - K x|| / ||f||; converged: no
@@ -48,7 +50,6 @@ int aug_pcg_prec(const cholmod_sparse *K, const double *f, double *x, int prec, 
                  int maxit, int *converged, int *breakdown, double *relres, double *shift,
                  cholmod_common *cm)
 {
-    (void)cm;
     int64_t n = (int64_t)K->ncol;
     double *w = aug_malloc((size_t)(5 * n + 1) * sizeof *w);
     aug_ichol ic, *R = NULL;
@@ -56,8 +57,9 @@ int aug_pcg_prec(const cholmod_sparse *K, const double *f, double *x, int prec, 
     if (shift) *shift = 0;
     if (!w) return -1;
     double *r = w, *z = w + n, *p = w + 2 * n, *q = w + 3 * n, *dinv = prec == AUG_PCG_JACOBI ? w + 4 * n : NULL;
-    if (prec == AUG_PCG_IC) {
-        if (aug_ichol_factor(K, &ic)) {
+    if (prec == AUG_PCG_IC || prec == AUG_PCG_IC_AMD) {
+        if (prec == AUG_PCG_IC ? aug_ichol_factor(K, &ic) : aug_ichol_factor_amd(K, &ic, cm)) {
+            if (ic.p) aug_ichol_free(&ic);
             free(w);
             return -1;
         }

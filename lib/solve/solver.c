@@ -499,7 +499,7 @@ static void pcg_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv
 {
     cut_size(s, st);
     put(st, "prec", s->o.pcg_prec);
-    if (s->o.pcg_prec == AUG_PCG_IC) put(st, "ic_shift", s->pcg_shift);
+    if (s->o.pcg_prec == AUG_PCG_IC || s->o.pcg_prec == AUG_PCG_IC_AMD) put(st, "ic_shift", s->pcg_shift);
     if (r->ran) put(tm, "assemble", r->t[0]), put(tm, "iter", r->t[1]);
 }
 

@@ -1,6 +1,8 @@
-/* pcg's preconditioners (none, Jacobi, IC(0) with a shift on breakdown):
-   IC(0) exact where it has no fill, its shift on Kershaw's matrix, every
-   preconditioner's solution against a dense LAPACK solve of a square. */
+/* pcg's preconditioners (none, Jacobi, IC(0) with a shift on breakdown, IC(0)
+   on the AMD ordering): IC(0) exact where it has no fill, its shift on
+   Kershaw's matrix, the AMD ordering a permutation that removes the fill of a
+   tree, every preconditioner's solution against a dense LAPACK solve of a
+   square. */
 #include <lapacke.h>
 #include "t.h"
 #include "fem_mesh.h"
@@ -79,8 +81,19 @@ static void t_square(void)
     for (int64_t i = 0; i < n; i++) f[i] = sin(1.0 + i);
     memcpy(u, f, n * sizeof *u);
     LAPACKE_dposv(LAPACK_COL_MAJOR, 'U', (int)n, 1, A, (int)n, u, (int)n);
-    int its[3];
-    for (int p = 0; p < 3; p++) {
+    aug_ichol R;
+    T_CHECK(aug_ichol_factor_amd(K, &R, &cm) == 0 && R.perm, "IC(0) on the AMD ordering of the square");
+    int *seen = calloc(n, sizeof *seen), perm_ok = 1, moved = 0;
+    for (int64_t k = 0; k < n; k++) {
+        int v = R.perm[k];
+        if (v < 0 || v >= n || seen[v]++) perm_ok = 0;
+        else moved += v != k;
+    }
+    T_CHECK(perm_ok && moved > 0, "AMD ordering: a permutation %d, %d of %d rows moved", perm_ok, moved, (int)n);
+    free(seen);
+    aug_ichol_free(&R);
+    int its[4];
+    for (int p = 0; p < 4; p++) {
         int conv, brk;
         double rr, sh;
         memset(x, 0, n * sizeof *x);
@@ -90,11 +103,62 @@ static void t_square(void)
         T_CHECK(conv && rr <= 1e-12 && sqrt(d / un) <= 1e-8, "prec %d: converged %d, relres %g, error %g", p, conv,
                 rr, sqrt(d / un));
     }
-    T_CHECK(its[AUG_PCG_IC] < its[AUG_PCG_JACOBI], "IC(0) %d iterations, Jacobi %d", its[AUG_PCG_IC],
-            its[AUG_PCG_JACOBI]);
+    T_CHECK(its[AUG_PCG_IC] < its[AUG_PCG_JACOBI] && its[AUG_PCG_IC_AMD] < its[AUG_PCG_JACOBI],
+            "IC(0) %d, on AMD %d iterations, Jacobi %d", its[AUG_PCG_IC], its[AUG_PCG_IC_AMD], its[AUG_PCG_JACOBI]);
     free(A), free(f), free(u), free(x), free(map);
     cholmod_free_sparse(&K, &cm);
     aug_mesh_free(&m);
+}
+
+/* a tree (parent of i below i, node 0 a hub): on the natural ordering the
+   Cholesky factor fills (children of an eliminated parent couple), so IC(0)
+   differs from it; on AMD's ordering P (leaves first) chol(P'KP) has no fill
+   (checked against the dense LAPACK factor) and IC(0) equals it */
+static void t_amd_tree(void)
+{
+    int n = 40, par[40];
+    double *A = calloc((size_t)n * n, sizeof *A), *B = calloc((size_t)n * n, sizeof *B);
+    par[0] = -1;
+    for (int i = 1; i < n; i++) par[i] = i < 8 ? 0 : (int)((7 * i + 3) % (i < 16 ? 8 : i / 2));
+    for (int i = 0; i < n; i++) A[(size_t)i * n + i] = 1 + 0.1 * i;
+    for (int i = 1; i < n; i++) {
+        int j = par[i];
+        A[(size_t)i * n + j] = A[(size_t)j * n + i] = -1;
+        A[(size_t)i * n + i] += 1.5, A[(size_t)j * n + j] += 1.5;
+    }
+    cholmod_sparse *K = sparse_upper(A, n);
+    aug_ichol R0, R;
+    T_CHECK(aug_ichol_factor(K, &R0) == 0 && aug_ichol_factor_amd(K, &R, &cm) == 0 && R0.shift == 0 && R.shift == 0,
+            "IC(0) of the tree, natural and AMD, without shift");
+    /* B = P'AP, U'U = B by LAPACK */
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b < n; b++) B[(size_t)b * n + a] = A[(size_t)R.perm[b] * n + R.perm[a]];
+    double *U = malloc((size_t)n * n * sizeof *U), *U0 = malloc((size_t)n * n * sizeof *U0);
+    memcpy(U, B, (size_t)n * n * sizeof *U), memcpy(U0, A, (size_t)n * n * sizeof *U0);
+    T_CHECK(LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', n, U, n) == 0 && LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', n, U0, n) == 0,
+            "dense Cholesky");
+    double fill = 0, fill0 = 0, d = 0, d0 = 0;
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < j; i++) {
+            if (B[(size_t)j * n + i] == 0) fill = fmax(fill, fabs(U[(size_t)j * n + i]));
+            if (A[(size_t)j * n + i] == 0) fill0 = fmax(fill0, fabs(U0[(size_t)j * n + i]));
+        }
+    for (int j = 0; j < n; j++)
+        for (int q = R.p[j]; q < R.p[j + 1]; q++) d = fmax(d, fabs(R.x[q] - U[(size_t)j * n + R.i[q]]));
+    for (int j = 0; j < n; j++)
+        for (int q = R0.p[j]; q < R0.p[j + 1]; q++) d0 = fmax(d0, fabs(R0.x[q] - U0[(size_t)j * n + R0.i[q]]));
+    T_CHECK(fill <= 1e-14 && d <= 1e-12, "AMD: fill %g, |IC(0) - chol| %g", fill, d);
+    T_CHECK(fill0 > 1e-3 && d0 > 1e-6, "natural ordering: fill %g and IC(0) off chol by %g", fill0, d0);
+    /* the preconditioner P (R'R)^-1 P' is K^-1 exactly: one PCG step */
+    double f[40], x[40] = {0};
+    for (int i = 0; i < n; i++) f[i] = cos(i);
+    int conv, brk;
+    double rr, sh;
+    int it = aug_pcg_prec(K, f, x, AUG_PCG_IC_AMD, 1e-12, 100, &conv, &brk, &rr, &sh, &cm);
+    T_CHECK(it == 1 && conv, "IC(0) on AMD: %d iterations, converged %d", it, conv);
+    aug_ichol_free(&R0), aug_ichol_free(&R);
+    cholmod_free_sparse(&K, &cm);
+    free(A), free(B), free(U), free(U0);
 }
 
 int main(void)
@@ -103,6 +167,7 @@ int main(void)
     T_RUN(t_exact);
     T_RUN(t_kershaw);
     T_RUN(t_square);
+    T_RUN(t_amd_tree);
     cholmod_finish(&cm);
     T_EXIT();
 }
