@@ -9,8 +9,7 @@
 /* workspace of field_corrected, sized for K_t of order n with |S| = ns */
 typedef struct aug_hcorr {
     int64_t ncap, scap;
-    int32_t *pat, *cl, *ca, *qa; /* pattern of H's rows (n), A's DOFs (n), the closure
-                                 of A's base DOFs, A index of a position */
+    int32_t *pat, *qa;       /* pattern of H's rows (n), A index of a position (ns) */
     unsigned char *mark;     /* n bytes, zero between uses */
     double *xt;              /* K_t-sized values on the pattern */
     double *yd;              /* n-sized: the field of the correction */
@@ -20,7 +19,7 @@ typedef struct aug_hcorr {
 static void hcorr_free(aug_hcorr *h)
 {
     if (!h) return;
-    free(h->pat), free(h->cl), free(h->ca), free(h->qa), free(h->mark), free(h->xt), free(h->yd);
+    free(h->pat), free(h->qa), free(h->mark), free(h->xt), free(h->yd);
     free(h->r), free(h->ka), free(h->rh), free(h->ew), free(h->x0), free(h->w0);
     free(h);
 }
@@ -30,14 +29,12 @@ static aug_hcorr *hcorr_get(aug_amps *a, int64_t n, int64_t ns)
     aug_hcorr *h = a->hc;
     if (!h && !(h = a->hc = aug_calloc(1, sizeof *h))) return NULL;
     if (h->ncap < n + 1) {
-        free(h->pat), free(h->cl), free(h->ca), free(h->mark), free(h->xt), free(h->yd);
+        free(h->pat), free(h->mark), free(h->xt), free(h->yd);
         h->yd = aug_malloc((size_t)(n + 1) * sizeof *h->yd);
         h->pat = aug_malloc((size_t)(n + 1) * sizeof *h->pat);
-        h->ca = aug_malloc((size_t)(n + 1) * sizeof *h->ca);
-        h->cl = aug_malloc((size_t)(n + 1) * sizeof *h->cl);
         h->mark = aug_calloc((size_t)(n + 1), 1);
         h->xt = aug_malloc((size_t)(n + 1) * sizeof *h->xt);
-        h->ncap = h->pat && h->cl && h->ca && h->mark && h->xt && h->yd ? n + 1 : 0;
+        h->ncap = h->pat && h->mark && h->xt && h->yd ? n + 1 : 0;
         if (!h->ncap) return NULL;
     }
     if (h->scap < ns + 1) {
@@ -220,9 +217,11 @@ static int64_t closure2(const aug_base *b, int64_t nb, const int32_t *i1, int64_
    f_t - K_t x lives on the rows of S: S2 (from the memo's H'K^-1H) and the
    back-substitution disagree by rounding that cond(S2) amplifies. With r on
    S, K_t^-1 P_S r = Kbar^-1 P_S (r + Ebar dz), S2 dz = (Kbar^-1 P_S r)_A
-   (eqs. 3.8 and 3.15 for the right-hand side P_S r; the right-hand side by
-   the back-substitution over the closure of A, the operator the field comes
-   from): a2 += dz, dw += r + Ebar dz. As in any iterative refinement the
+   (eqs. 3.8 and 3.15 for the right-hand side P_S r; the right-hand side
+   from the memo's H'K^-1H, the operator S2 is made of: on the organ and
+   stack scenes it gives the same sweeps and backward errors as a
+   back-substitution over the closure of A did, without that traversal):
+   a2 += dz, dw += r + Ebar dz. As in any iterative refinement the
    field of each increment, over Q, is added to the field already computed,
    never recomputed with w + dw in one back-substitution: that would bring
    back rounding of the size being removed. The residual is summed in long
@@ -240,17 +239,16 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     a->berr_h0 = a->berr_h = NAN;
     a->t_correct = 0;
     const aug_schur *s = &a->schur;
-    int64_t ns = c->ns, na = s->na, np = 0, nca = 0;
+    const aug_memo *M = &a->memo;
+    int64_t ns = c->ns, na = s->na, np = 0;
     for (int64_t p = 0; p < ns; p++) dw[p] = 0;
     int corr = a->kt && a->correct_max > 0 && ns > 0;
     aug_hcorr *h = corr ? hcorr_get(a, c->n, ns) : NULL;
     if (corr && !h) return -1;
     double *y = a->y, tc = now_ms();
     if (corr) {
-        /* the rows of S, their pattern; A's closure (its start list in cl) */
+        /* the rows of S and their pattern */
         np = aug_cutmat_pattern(a->kt, c->S, ns, h->pat, h->mark);
-        for (int64_t aq = 0; aq < na; aq++) h->cl[aq] = c->S[s->A[aq]];
-        nca = closure2(b, c->nb, h->cl, na, NULL, 0, h->ca, a->mark);
     }
     int32_t *Q = out ? a->q : NULL;
     a->nq = out ? closure2(b, c->nb, out, nout, h ? h->pat : NULL, np, Q, a->mark) : b->n;
@@ -295,11 +293,17 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
         prev = berr;
         memcpy(h->x0, x, (size_t)na * sizeof *x);
         memcpy(h->w0, dw, (size_t)ns * sizeof *dw);
-        /* dz = S2^-1 (Kbar^-1 P_S r)_A, r itself on new DOFs */
-        closure_field(a, b, h->r, h->ca, nca, yd);
+        /* dz = S2^-1 (Kbar^-1 P_S r)_A: H'K^-1H r on base DOFs, r itself on new ones */
         for (int64_t aq = 0; aq < na; aq++) {
-            int32_t i = c->S[s->A[aq]];
-            h->rh[aq] = i < c->nb ? yd[b->pinv[i]] : h->r[s->A[aq]];
+            int32_t p = s->A[aq];
+            if (c->S[p] >= c->nb) {
+                h->rh[aq] = h->r[p];
+                continue;
+            }
+            const double *Gp = M->G + (int64_t)M->cpos[p] * M->mcap;
+            double v = 0;
+            for (int64_t j = 0; j < M->m; j++) v += Gp[j] * h->r[M->col[j]];
+            h->rh[aq] = v;
         }
         aug_schur_solve(s, h->rh);
         for (int64_t aq = 0; aq < na; aq++) x[aq] += h->rh[aq];
