@@ -167,8 +167,9 @@ void aug_ldl_solve_full(const aug_base *b, const double *rhs, double *x, double 
 /* ---- work arrays growing with the steps (mapped.c) --------------------- */
 
 /* p (old bytes, NULL when old = 0) as an array of n >= old bytes, contents
-   kept, page-aligned, mapped from the system (no copy on growth); NULL when
-   out of memory (p unchanged). Freed by aug_map_free with its size. */
+   kept, page-aligned: from the heap up to 64 MiB, above it mapped from the
+   system (no copy on growth); NULL when out of memory (p unchanged). Freed
+   by aug_map_free with its size. */
 void *aug_map_grow(void *p, size_t old, size_t n);
 void aug_map_free(void *p, size_t n);
 /* a (cap x cap doubles, column-major, leading dim cap, from aug_map_grow or

@@ -6,11 +6,10 @@
 #include <string.h>
 #include "aug_solve.h"
 
-/* workspace of correct_on_h, sized for K_t of order n with |S| = ns */
+/* workspace of field_corrected, sized for K_t of order n with |S| = ns */
 typedef struct aug_hcorr {
     int64_t ncap, scap;
-    int32_t *pat, *cl, *ca, *qa; /* pattern of H's rows (n), its closure in L', the closure
-                                 of A's base DOFs, A index of a position */
+    int32_t *pat, *qa;       /* pattern of H's rows (n), A index of a position (ns) */
     unsigned char *mark;     /* n bytes, zero between uses */
     double *xt;              /* K_t-sized values on the pattern */
     double *yd;              /* n-sized: the field of the correction */
@@ -20,7 +19,7 @@ typedef struct aug_hcorr {
 static void hcorr_free(aug_hcorr *h)
 {
     if (!h) return;
-    free(h->pat), free(h->cl), free(h->ca), free(h->qa), free(h->mark), free(h->xt), free(h->yd);
+    free(h->pat), free(h->qa), free(h->mark), free(h->xt), free(h->yd);
     free(h->r), free(h->ka), free(h->rh), free(h->ew), free(h->x0), free(h->w0);
     free(h);
 }
@@ -30,14 +29,12 @@ static aug_hcorr *hcorr_get(aug_amps *a, int64_t n, int64_t ns)
     aug_hcorr *h = a->hc;
     if (!h && !(h = a->hc = aug_calloc(1, sizeof *h))) return NULL;
     if (h->ncap < n + 1) {
-        free(h->pat), free(h->cl), free(h->ca), free(h->mark), free(h->xt), free(h->yd);
+        free(h->pat), free(h->mark), free(h->xt), free(h->yd);
         h->yd = aug_malloc((size_t)(n + 1) * sizeof *h->yd);
         h->pat = aug_malloc((size_t)(n + 1) * sizeof *h->pat);
-        h->ca = aug_malloc((size_t)(n + 1) * sizeof *h->ca);
-        h->cl = aug_malloc((size_t)(n + 1) * sizeof *h->cl);
         h->mark = aug_calloc((size_t)(n + 1), 1);
         h->xt = aug_malloc((size_t)(n + 1) * sizeof *h->xt);
-        h->ncap = h->pat && h->cl && h->ca && h->mark && h->xt && h->yd ? n + 1 : 0;
+        h->ncap = h->pat && h->mark && h->xt && h->yd ? n + 1 : 0;
         if (!h->ncap) return NULL;
     }
     if (h->scap < ns + 1) {
@@ -165,58 +162,107 @@ static void closure_field(const aug_amps *a, const aug_base *b, const double *wp
     aug_ldl_ltsolve_closure_super(b, set, k, y, a->t2);
 }
 
+/* closure_field over the set Q[0..nq), or over all of L when Q is NULL
+   (through the supernodes, X/Yw/Ew kept in a); 0 or -1 */
+static int field(aug_amps *a, const aug_base *b, const double *wp, const int32_t *Q, int64_t nq,
+                 double *y, cholmod_common *cm)
+{
+    if (Q) {
+        closure_field(a, b, wp, Q, nq, y);
+        return 0;
+    }
+    v_times(a, b, wp, NULL, 0, y);
+    return aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm);
+}
+
+/* out := the closure in L' (paper 000 thm 3: the union of the etree paths)
+   of the permuted base DOFs among the matrix indices i1[0..n1) and
+   i2[0..n2), ascending; mark (n bytes) is zero on entry and exit. A large
+   closure is collected by a scan of mark instead of sorted. Returns its size. */
+static int64_t closure2(const aug_base *b, int64_t nb, const int32_t *i1, int64_t n1,
+                        const int32_t *i2, int64_t n2, int32_t *out, unsigned char *mark)
+{
+    int64_t k = 0;
+    for (int l = 0; l < 2; l++)
+        for (int64_t t = 0, e = l ? n2 : n1; t < e; t++) {
+            int32_t i = l ? i2[t] : i1[t];
+            if (i >= nb) continue;
+            for (int32_t v = b->pinv[i]; v >= 0 && !mark[v]; v = b->parent[v]) mark[v] = 1, out[k++] = v;
+        }
+    if (k * 16 > b->n) {
+        k = 0;
+        for (int64_t v = 0; v < b->n; v++)
+            if (mark[v]) mark[v] = 0, out[k++] = (int32_t)v;
+        return k;
+    }
+    for (int64_t t = 0; t < k; t++) mark[out[t]] = 0;
+    qsort(out, (size_t)k, sizeof *out, aug_cmp_i32);
+    return k;
+}
+
 /* the normwise backward error on the rows of H at which the correction
    stops: a few units of rounding */
 #define BERR_OK 4e-16
 
-/* Correction on the small system (paper 001 eq. 3.8 with a residual
-   right-hand side; issue 15 item 1). AMPS's field x = [a_b; 0] + Kbar^-1 P_S w,
-   w = dF + Ebar a2, satisfies every row of K_t outside S to the rounding of
-   one back-substitution, so its residual r = f_t - K_t x lives on the rows
-   of S: S2 (from the memo's H'K^-1H) and the back-substitution disagree by
-   rounding that cond(S2) amplifies. x is needed only on the pattern of those
-   rows, which the back-substitution gives over the closure of that pattern
-   in L' (the top of the elimination tree), not all of L. With r on S,
-   K_t^-1 P_S r = Kbar^-1 P_S (r + Ebar dz), S2 dz = (Kbar^-1 P_S r)_A (eqs.
-   3.8 and 3.15 for the right-hand side P_S r; the right-hand side by the
-   back-substitution over the closure of A, the operator the field comes
-   from): a2 += dz, dw += r + Ebar dz. As in any iterative refinement the
-   correction's field Kbar^-1 P_S dw is added to the field already computed,
+/* The field of eq. 3.20 and its correction on the small system (paper 001
+   eq. 3.8 with a residual right-hand side; issue 15 items 1 and 5), over one
+   set: y (permuted, n_b) = Kbar^-1 P_S w on Q = the closure in L' of the
+   base DOFs of out and, correcting, of the pattern of the rows of S (all of
+   L when out is NULL), w = dF + Ebar a2. The output, the reaction DOFs the
+   caller put in out, and the check all read this one back-substitution: a
+   one-node output set costs the closure of the rows of S and the node's
+   path, not two traversals (paper 000 thm 2).
+   AMPS's field x = [a_b; 0] + Kbar^-1 P_S w satisfies every row of K_t
+   outside S to the rounding of one back-substitution, so its residual r =
+   f_t - K_t x lives on the rows of S: S2 (from the memo's H'K^-1H) and the
+   back-substitution disagree by rounding that cond(S2) amplifies. With r on
+   S, K_t^-1 P_S r = Kbar^-1 P_S (r + Ebar dz), S2 dz = (Kbar^-1 P_S r)_A
+   (eqs. 3.8 and 3.15 for the right-hand side P_S r; the right-hand side
+   from the memo's H'K^-1H, the operator S2 is made of: on the organ and
+   stack scenes it gives the same sweeps and backward errors as a
+   back-substitution over the closure of A did, without that traversal):
+   a2 += dz, dw += r + Ebar dz. As in any iterative refinement the
+   field of each increment, over Q, is added to the field already computed,
    never recomputed with w + dw in one back-substitution: that would bring
    back rounding of the size being removed. The residual is summed in long
    double (aug_cutmat_rows_residual). A sweep is taken while the normwise
    backward error max|r| / max(|K_t||x| + |f_t|) on those rows exceeds
    BERR_OK, at most correct_max times; one that does not lower it is
-   undone, one that lowers it by less than 10% is the last. dw (S-sized) is
-   zero when no sweep was kept. Sets ncorrect, berr_h0, berr_h. */
-static int correct_on_h(aug_amps *a, const aug_base *b, const aug_cum *c, double *x,
-                        const double *wp, double *dw)
+   undone (its increment never joins y), one that lowers it by less than
+   10% is the last. dw (S-sized) is zero when no sweep was kept. Sets
+   ncorrect, berr_h0, berr_h, t_correct, nq (|Q|; Q in a->q when out is
+   given). Returns 0, -1 (memory) or -2 (the supernodal solve failed). */
+static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
+                           int64_t nout, double *x, const double *wp, double *dw, cholmod_common *cm)
 {
     a->ncorrect = 0;
     a->berr_h0 = a->berr_h = NAN;
+    a->t_correct = 0;
     const aug_schur *s = &a->schur;
-    int64_t ns = c->ns, na = s->na;
+    const aug_memo *M = &a->memo;
+    int64_t ns = c->ns, na = s->na, np = 0;
     for (int64_t p = 0; p < ns; p++) dw[p] = 0;
-    if (!a->kt || a->correct_max <= 0 || ns == 0) return 0;
-    aug_hcorr *h = hcorr_get(a, c->n, ns);
-    if (!h) return -1;
-    /* the rows of S, their pattern, its base DOFs' closure in L', A's closure */
-    int64_t np = aug_cutmat_pattern(a->kt, c->S, ns, h->pat, h->mark), k = 0;
-    for (int64_t t = 0; t < np; t++)
-        if (h->pat[t] < c->nb) h->cl[k++] = b->pinv[h->pat[t]];
-    memcpy(a->ca, h->cl, (size_t)k * sizeof *h->cl);
-    int64_t ncl = aug_ldl_closure(b, a->ca, k, h->cl, a->mark), nca = 0;
-    for (int64_t aq = 0; aq < na; aq++)
-        if (c->S[s->A[aq]] < c->nb) a->ca[nca++] = b->pinv[c->S[s->A[aq]]];
-    memcpy(a->y, a->ca, (size_t)nca * sizeof *a->ca); /* a->y: scratch here */
-    nca = aug_ldl_closure(b, (const int32_t *)a->y, nca, h->ca, a->mark);
+    int corr = a->kt && a->correct_max > 0 && ns > 0;
+    aug_hcorr *h = corr ? hcorr_get(a, c->n, ns) : NULL;
+    if (corr && !h) return -1;
+    double *y = a->y, tc = now_ms();
+    if (corr) {
+        /* the rows of S and their pattern */
+        np = aug_cutmat_pattern(a->kt, c->S, ns, h->pat, h->mark);
+    }
+    int32_t *Q = out ? a->q : NULL;
+    a->nq = out ? closure2(b, c->nb, out, nout, h ? h->pat : NULL, np, Q, a->mark) : b->n;
+    a->t_correct += now_ms() - tc;
+    if (field(a, b, wp, Q, a->nq, y, cm)) return -2;
+    if (!corr) return 0;
+    tc = now_ms();
     for (int64_t p = 0; p < ns; p++) h->qa[p] = -1;
     for (int64_t aq = 0; aq < na; aq++) h->qa[s->A[aq]] = (int32_t)aq;
-    double *y = a->y, prev = INFINITY;
-    /* xt: the field on the pattern, base DOFs from w, then the increments */
-    closure_field(a, b, wp, h->cl, ncl, y);
+    /* xt: the field on the pattern, base DOFs from y, then the increments */
     for (int64_t t = 0; t < np; t++)
         if (h->pat[t] < c->nb) h->xt[h->pat[t]] = b->a[h->pat[t]] + y[b->pinv[h->pat[t]]];
+    double *yd = h->yd, prev = INFINITY;
+    int rc = 0;
     for (int it = 0;; it++) {
         for (int64_t t = 0; t < np; t++) {
             int32_t i = h->pat[t];
@@ -240,28 +286,40 @@ static int correct_on_h(aug_amps *a, const aug_base *b, const aug_cum *c, double
             a->berr_h = prev;
             break;
         }
+        if (it > 0) /* the last sweep kept: its field joins y */
+            for (int64_t t = 0; t < a->nq; t++) y[Q ? Q[t] : t] += yd[Q ? Q[t] : t];
         a->berr_h = berr;
         if (berr <= BERR_OK || it == a->correct_max || (it > 0 && berr > 0.9 * prev)) break;
         prev = berr;
         memcpy(h->x0, x, (size_t)na * sizeof *x);
         memcpy(h->w0, dw, (size_t)ns * sizeof *dw);
-        /* dz = S2^-1 (Kbar^-1 P_S r)_A, r itself on new DOFs */
-        closure_field(a, b, h->r, h->ca, nca, y);
+        /* dz = S2^-1 (Kbar^-1 P_S r)_A: H'K^-1H r on base DOFs, r itself on new ones */
         for (int64_t aq = 0; aq < na; aq++) {
-            int32_t i = c->S[s->A[aq]];
-            h->rh[aq] = i < c->nb ? y[b->pinv[i]] : h->r[s->A[aq]];
+            int32_t p = s->A[aq];
+            if (c->S[p] >= c->nb) {
+                h->rh[aq] = h->r[p];
+                continue;
+            }
+            const double *Gp = M->G + (int64_t)M->cpos[p] * M->mcap;
+            double v = 0;
+            for (int64_t j = 0; j < M->m; j++) v += Gp[j] * h->r[M->col[j]];
+            h->rh[aq] = v;
         }
         aug_schur_solve(s, h->rh);
         for (int64_t aq = 0; aq < na; aq++) x[aq] += h->rh[aq];
         ebar_times(a, c, h->rh, h->ew);
         for (int64_t p = 0; p < ns; p++) h->ew[p] += h->r[p], dw[p] += h->ew[p];
-        /* the increment's field on the pattern, added */
-        closure_field(a, b, h->ew, h->cl, ncl, y);
+        /* the increment's field over Q, on the pattern added to xt */
+        if (field(a, b, h->ew, Q, a->nq, yd, cm)) {
+            rc = -2;
+            break;
+        }
         for (int64_t t = 0; t < np; t++)
-            if (h->pat[t] < c->nb) h->xt[h->pat[t]] += y[b->pinv[h->pat[t]]];
+            if (h->pat[t] < c->nb) h->xt[h->pat[t]] += yd[b->pinv[h->pat[t]]];
         a->ncorrect++;
     }
-    return 0;
+    a->t_correct += now_ms() - tc;
+    return rc;
 }
 
 /* One AMPS step (paper 001 table 1 steps 1-6): V, H'K^-1H and S2 brought up to
@@ -313,34 +371,10 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
     /* eq. 3.20: a = a_b + K^-1 H (dF + Ebar a2) off A */
     ebar_times(a, c, x, wp);
     for (int64_t p = 0; p < c->ns; p++) wp[p] += c->dF[p];
-    double tc = now_ms();
     double *dw = a->w + a->xcap; /* the correction's sum of w increments */
-    if (correct_on_h(a, b, c, x, wp, dw)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-    a->t_correct = now_ms() - tc;
-    int64_t nq = 0;
-    if (out) {
-        int32_t *st = a->q;
-        int64_t k = 0;
-        for (int64_t t = 0; t < nout; t++)
-            if (out[t] < c->nb) st[k++] = b->pinv[out[t]];
-        int32_t *tmp = (int32_t *)a->t2; /* t2 (n + 1 doubles): free until the L^-T below */
-        nq = aug_ldl_closure(b, st, k, tmp, a->mark);
-        memcpy(a->q, tmp, (size_t)nq * sizeof *tmp);
-    } else {
-        nq = b->n;
-    }
-    /* the field of w, then (corrected) the field of dw added to it */
-    for (int pass = 0; pass < (a->ncorrect > 0 ? 2 : 1); pass++) {
-        double *yp = pass ? a->hc->yd : y;
-        v_times(a, b, pass ? dw : wp, out ? a->q : NULL, nq, yp);
-        if (out)
-            aug_ldl_ltsolve_closure_super(b, a->q, nq, yp, a->t2);
-        else if (aug_ldl_ltsolve_all(b, yp, &a->X, &a->Yw, &a->Ew, cm))
-            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
-        if (pass)
-            for (int64_t t = 0; t < (out ? nq : b->n); t++) y[out ? a->q[t] : t] += yp[out ? a->q[t] : t];
-    }
-    a->nq = nq;
+    int fc = field_corrected(a, b, c, out, nout, x, wp, dw, cm);
+    if (fc == -1) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    if (fc) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
     int64_t cnt = out ? nout : c->n;
     for (int64_t t = 0; t < cnt; t++) {
         int64_t i = out ? out[t] : t;

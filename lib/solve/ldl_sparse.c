@@ -258,21 +258,24 @@ static void trsm_lower(int n, int r, const double *T, int ldt, double *B, int ld
 }
 
 /* r columns of V at once (paper 001 eq. 3.24): Ls X = E_P supernode by supernode
-   over the union of the paths, in increasing order: per supernode one triangular
+   over the union U of the paths, in increasing order: per supernode one triangular
    solve and one product on all r right-hand sides (a right-hand side whose path
    enters the supernode further down is zero above its entry and stays so);
-   outs[q][t] = X(paths[q][t], q) D^1/2, since L = Ls D^-1/2. X is n x r row-major,
-   so a row's r values are adjacent for the scatter. */
+   outs[q][t] = X(paths[q][t], q) D^1/2, since L = Ls D^-1/2. X is |U| x r
+   row-major over U (loc: a row's place in U; every row a supernode of U
+   updates is an etree ancestor, in U), so a row's r values are adjacent for
+   the scatter and a step's few columns touch O(|U| r), not O(n r), memory. */
 int aug_ldl_paths_solve_super(const aug_base *b, int r, const int32_t *p, int32_t *const *paths,
                               const int64_t *lens, double *const *outs)
 {
     const cholmod_factor *L = b->Ls;
     const int *sup = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
     const double *Lx = L->x;
-    int64_t ns = (int64_t)L->nsuper, nmax = 0, list_n = 0;
+    int64_t ns = (int64_t)L->nsuper, nmax = 0, list_n = 0, nu = 0;
     int32_t *entry = aug_malloc((size_t)ns * sizeof *entry), *list = NULL;
-    double *X = aug_calloc((size_t)b->n * (size_t)r, sizeof *X), *B = NULL, *T = NULL;
-    if (!entry || !X) goto nomem;
+    int32_t *loc = aug_malloc((size_t)b->n * sizeof *loc); /* read only on U */
+    double *X = NULL, *B = NULL, *T = NULL;
+    if (!entry || !loc) goto nomem;
     for (int64_t s = 0; s < ns; s++) entry[s] = -1;
     for (int q = 0; q < r; q++)
         for (int64_t t = 0; t < lens[q]; t++) {
@@ -288,39 +291,42 @@ int aug_ldl_paths_solve_super(const aug_base *b, int r, const int32_t *p, int32_
             list[list_n++] = (int32_t)s;
             int64_t nr = pi[s + 1] - pi[s];
             if (nr > nmax) nmax = nr;
+            for (int j = sup[s] + entry[s]; j < sup[s + 1]; j++) loc[j] = (int32_t)nu++;
         }
+    X = aug_calloc((size_t)(nu ? nu : 1) * (size_t)r, sizeof *X);
     B = aug_malloc((size_t)(nmax ? nmax : 1) * (size_t)r * sizeof *B);
     T = aug_malloc((size_t)(nmax ? nmax : 1) * (size_t)r * sizeof *T);
-    if (!B || !T) goto nomem;
-    for (int q = 0; q < r; q++) X[(int64_t)p[q] * r + q] = 1.0;
+    if (!X || !B || !T) goto nomem;
+    for (int q = 0; q < r; q++) X[(int64_t)loc[p[q]] * r + q] = 1.0;
     for (int64_t l = 0; l < list_n; l++) {
         int32_t s = list[l];
         int k1 = sup[s], nscol = sup[s + 1] - k1, nsrow = pi[s + 1] - pi[s], o = entry[s];
         int nc = nscol - o, nb = nsrow - nscol;
         const double *A = Lx + px[s];
+        double *Xs = X + (int64_t)loc[k1 + o] * r; /* the supernode's rows of U are consecutive */
         for (int i = 0; i < nc; i++)
-            for (int q = 0; q < r; q++) B[i + (int64_t)q * nc] = X[(int64_t)(k1 + o + i) * r + q];
+            for (int q = 0; q < r; q++) B[i + (int64_t)q * nc] = Xs[(int64_t)i * r + q];
         trsm_lower(nc, r, A + o + (size_t)o * nsrow, nsrow, B, nc);
         for (int i = 0; i < nc; i++)
-            for (int q = 0; q < r; q++) X[(int64_t)(k1 + o + i) * r + q] = B[i + (int64_t)q * nc];
+            for (int q = 0; q < r; q++) Xs[(int64_t)i * r + q] = B[i + (int64_t)q * nc];
         if (nb == 0) continue;
         cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, nb, r, nc, 1.0,
                     A + nscol + (size_t)o * nsrow, nsrow, B, nc, 0.0, T, nb);
         const int *rows = Ls + pi[s] + nscol;
         for (int i = 0; i < nb; i++) {
-            double *Xr = X + (int64_t)rows[i] * r;
+            double *Xr = X + (int64_t)loc[rows[i]] * r;
             for (int q = 0; q < r; q++) Xr[q] -= T[i + (int64_t)q * nb];
         }
     }
     for (int q = 0; q < r; q++)
         for (int64_t t = 0; t < lens[q]; t++) {
             int32_t j = paths[q][t];
-            outs[q][t] = X[(int64_t)j * r + q] * b->sqrtd[j];
+            outs[q][t] = X[(int64_t)loc[j] * r + q] * b->sqrtd[j];
         }
-    free(entry), free(list), free(X), free(B), free(T);
+    free(entry), free(list), free(loc), free(X), free(B), free(T);
     return 0;
 nomem:
-    free(entry), free(list), free(X), free(B), free(T);
+    free(entry), free(list), free(loc), free(X), free(B), free(T);
     return -1;
 }
 

@@ -1,7 +1,11 @@
 /* Work arrays that grow with the steps (the memo's V and G, the LU of S2),
    mapped from the system and given back to it when grown or freed: the tools
    let malloc keep freed memory (lib/cli/tool.c), which kept every outgrown
-   copy resident, and a copy on growth held the old and the new array at once. */
+   copy resident, and a copy on growth held the old and the new array at once.
+   Up to SMALL bytes they come from the heap instead: there the factorization
+   left memory already backed, while the first touch of a fresh huge page
+   costs milliseconds on this kind of machine (a virtual one: 6 ms each, the
+   first AMPS step's memo and S2 spent ~20 ms on theirs). */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,6 +28,8 @@
 #endif
 
 #define HUGE ((size_t)2 << 20)
+/* the largest array taken from the heap (the tools' mmap threshold) */
+#define SMALL ((size_t)64 << 20)
 
 /* sizes in whole huge pages: the mappings start on huge-page boundaries, so
    that the kernel can back them with huge pages and move them as such */
@@ -42,18 +48,35 @@ static void *map_aligned(size_t n)
 }
 #endif
 
+/* p (old bytes, from the heap) as a page-aligned heap array of n bytes, its
+   first old bytes kept (copied); NULL when out of memory (p unchanged) */
+static void *heap_grow(void *p, size_t old, size_t n)
+{
+    void *q = NULL;
+    if (posix_memalign(&q, 4096, n)) return NULL;
+    if (old) memcpy(q, p, old);
+    free(p);
+    return q;
+}
+
 /* p (old bytes; NULL when old = 0) as an array of n >= old bytes, its first old
-   bytes kept, on a huge-page boundary (huge pages asked for: dgetrs and the LU
-   update stride through S2 a column at a time, one 4 KiB page each without
-   them); grown in place or moved by the page tables (mremap), not copied.
+   bytes kept: up to SMALL from the heap (copied on growth), above it mapped
+   on a huge-page boundary (huge pages asked for: dgetrs and the LU update
+   stride through S2 a column at a time, one 4 KiB page each without them),
+   grown in place or moved by the page tables (mremap), not copied.
    NULL when out of memory (p is then unchanged). */
 void *aug_map_grow(void *p, size_t old, size_t n)
 {
     n = whole(n ? n : 1), old = old ? whole(old) : 0;
+    if (old == n) return p;
 #if MAPPED
     void *q;
-    if (old == n) return p;
-    if (old && (q = mremap(p, old, n, 0)) != MAP_FAILED) {
+    if (n <= SMALL) return heap_grow(p, old, n);
+    if (old && old <= SMALL) { /* from the heap to a mapping: one copy */
+        if (!(q = map_aligned(n))) return NULL;
+        memcpy(q, p, old);
+        free(p);
+    } else if (old && (q = mremap(p, old, n, 0)) != MAP_FAILED) {
         q = p; /* grown in place */
     } else {
         if (!(q = map_aligned(n))) return NULL;
@@ -67,11 +90,7 @@ void *aug_map_grow(void *p, size_t old, size_t n)
 #endif
     return q;
 #else
-    void *q = NULL;
-    if (posix_memalign(&q, HUGE, n)) return NULL;
-    if (old) memcpy(q, p, old);
-    free(p);
-    return q;
+    return heap_grow(p, old, n);
 #endif
 }
 
@@ -80,7 +99,8 @@ void aug_map_free(void *p, size_t n)
 {
     if (!p) return;
 #if MAPPED
-    munmap(p, whole(n ? n : 1));
+    if (whole(n ? n : 1) <= SMALL) free(p);
+    else munmap(p, whole(n ? n : 1));
 #else
     (void)n;
     free(p);
