@@ -12,7 +12,8 @@
 static const char *synopsis =
     "solve-aug [FILE] [--method LIST] [--check] [--background] [--bg-lag N]\n"
     "          [--output all|surface|SET|node:ID,..] [--refine-iter N] [--refine-tol R]\n"
-    "          [--amps-target R] [--amps-correct N] [--fail-tol F] [--tol T] [--maxit N]\n"
+    "          [--amps-target R] [--amps-correct N] [--amps-pivot s2|alt|auto]\n"
+    "          [--amps-field solve|memo] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
     "          [--reach path|cholmod] [--threads N] [--time-full] [--frames N] [--settle N]\n"
     "          [--no-reactions] [--pcg-prec none|jacobi|ic|ic-amd] [--cgm-eps E] [--cgm-p P]\n"
@@ -40,6 +41,10 @@ static const char *help =
     "  --amps-correct N     amps corrects on the rows of H at most N times per step,\n"
     "                       residuals from back-substitutions over their closure\n"
     "                       (default 2; 0: never)\n"
+    "  --amps-pivot P       amps's Schur pivot: s2 (eq. 3.8, default), alt (eqs.\n"
+    "                       3.16-3.17: the forces solved for directly) or auto\n"
+    "  --amps-field F       amps's K^-1 H w: solve (a forward solve over the closure\n"
+    "                       of H, default) or memo (the memo's V columns, paper 001)\n"
     "  --fail-tol F         a direct method whose relres stays above F reports the\n"
     "                       step singular (default 1e-6)\n"
     "  --tol T              relres ||K_t a - f_t||/||f_t|| gmres and pcg stop at (default 1e-8)\n"
@@ -77,6 +82,9 @@ static const aug_word precs[] = {
     {"none", AUG_PREC_NONE}, {"D", AUG_PREC_D}, {"spai", AUG_PREC_SPAI}, {NULL, 0}};
 static const aug_word singular[] = {{"error", 0}, {"report", 1}, {NULL, 0}};
 static const aug_word reaches[] = {{"path", 0}, {"cholmod", 1}, {NULL, 0}};
+static const aug_word pivots[] = {
+    {"s2", AUG_PIVOT_S2}, {"alt", AUG_PIVOT_ALT}, {"auto", AUG_PIVOT_AUTO}, {NULL, 0}};
+static const aug_word fields[] = {{"solve", 0}, {"memo", 1}, {NULL, 0}};
 static const aug_word pcg_precs[] = {
     {"none", AUG_PCG_NONE}, {"jacobi", AUG_PCG_JACOBI}, {"ic", AUG_PCG_IC}, {"ic-amd", AUG_PCG_IC_AMD}, {NULL, 0}};
 
@@ -114,6 +122,8 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_REAL("--amps-target", &so->amps_target, 0, 1, "a number in [0, 1)"),
          .flags = AUG_OPT_HI_OPEN},
         {AUG_OPT_INT("--amps-correct", &so->amps_correct, 0, 10, "0 to 10")},
+        {AUG_OPT_CHOICE("--amps-pivot", &so->amps_pivot, pivots, "s2, alt or auto")},
+        {AUG_OPT_CHOICE("--amps-field", &so->amps_field_memo, fields, "solve or memo")},
         {AUG_OPT_REAL("--tol", &so->tol, 0, 1, "a number in (0, 1)"),
          .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
         {AUG_OPT_INT("--maxit", &so->maxit, 1, 100000000, "a count >= 1")},

@@ -153,6 +153,11 @@ int aug_ldl_paths_solve_super(const aug_base *b, int r, const int32_t *p, int32_
    rows outside it are left as they are. tmp: n-sized workspace. */
 void aug_ldl_ltsolve_closure_super(const aug_base *b, const int32_t *set, int64_t k, double *x,
                                    double *tmp);
+/* x := L^-1 x on the etree closure set[0..k) (ascending) only, x zero
+   outside it, through the supernodes of Ls (BLAS 2 per supernode), column
+   by column without Ls. tmp: n-sized workspace. */
+void aug_ldl_lsolve_closure_super(const aug_base *b, const int32_t *set, int64_t k, double *x,
+                                  double *tmp);
 /* x := L^-T x over all columns, given x = D^-1 z: through the supernodal
    factor Ls = L D^1/2 when the base has one (BLAS), else column by column.
    X/Yw/Ew are cholmod_solve2 workspaces kept by the caller. Returns 0 or -1. */
@@ -258,6 +263,8 @@ int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double r
                      aug_err *e);
 /* x := S2^-1 x (length na). */
 void aug_schur_solve(const aug_schur *s, double *x);
+/* x := S2'^-1 x (length na): the matrix of eq. 3.16 is -S2'. */
+void aug_schur_solve_t(const aug_schur *s, double *x);
 
 /* The AMPS solution (amps_solve.c): rhs of eq. 3.21 extended to loads changed
    on H, S2 solve, and eq. 3.20: a on A from a2, elsewhere
@@ -283,7 +290,20 @@ typedef struct aug_amps {
                             before the first and after the last sweep measured */
     double t_correct;    /* ms the last step's correction took */
     struct aug_hcorr *hc; /* its workspace */
+    /* the field's Kbar^-1 Hbar w (amps_solve.c, v_times): 0 by a forward
+       solve of H w over the closure of H in L (hcl), 1 by the memo's V w */
+    int field_memo;
+    int32_t *hcl;        /* closure of H in L (permuted, ascending), nhcl long */
+    int64_t nhcl, hcl_m; /* ... for the memo's first hcl_m columns */
+    const void *hcl_b;   /* ... of this base */
+    int pivot;           /* AUG_PIVOT_S2, _ALT (eqs. 3.16-3.17) or _AUTO */
+    int pivot_used;      /* the last step's: S2 or ALT */
+    double berr_piv[2];  /* berr_h0 of S2 and ALT when last used (AUTO) */
 } aug_amps;
+
+/* Schur pivots of AMPS (paper 001): S2 of eq. 3.8, the (1,2) block of S1 as
+   pivot; ALT of eqs. 3.16-3.17, the (2,1) block; AUTO per step */
+enum { AUG_PIVOT_S2 = 0, AUG_PIVOT_ALT = 1, AUG_PIVOT_AUTO = 2 };
 
 void aug_amps_init(aug_amps *a);
 void aug_amps_free(aug_amps *a);
@@ -587,6 +607,8 @@ typedef struct aug_solver_opts {
     double auto_prior;   /* auto: the re-factorization time (ms) assumed until one
                             is measured; 0: AUG_AUTO_PRIOR full solves */
     int amps_correct;    /* amps: correction sweeps on H at most (0: none) */
+    int amps_pivot;      /* amps: AUG_PIVOT_S2 (default), _ALT or _AUTO */
+    int amps_field_memo; /* amps: Kbar^-1 Hbar w by the memo's V (1) or a forward solve (0) */
 } aug_solver_opts;
 void aug_solver_opts_default(aug_solver_opts *o);
 

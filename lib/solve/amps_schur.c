@@ -389,3 +389,16 @@ void aug_schur_solve(const aug_schur *s, double *x)
     LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', (lapack_int)na, 1, s->S2, (lapack_int)s->scap, s->ipiv, x,
                    (lapack_int)na);
 }
+
+/* x := S2'^-1 x for the alternative pivot of paper 001 eqs. 3.16-3.17: its
+   matrix Ebar Gbar - I is -S2' (Gbar and Ebar are symmetric), so the LU of
+   the row-scaled R S2 serves it transposed: S2' = (R S2)' R^-1, S2'^-1 x =
+   R (R S2)'^-1 x (dgetrs 'T', then the rows new_scale scaled). */
+void aug_schur_solve_t(const aug_schur *s, double *x)
+{
+    int64_t na = s->na;
+    if (na == 0) return;
+    LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'T', (lapack_int)na, 1, s->S2, (lapack_int)s->scap, s->ipiv, x,
+                   (lapack_int)na);
+    for (int64_t q = 0; q < na; q++) x[q] *= s->rs[q];
+}

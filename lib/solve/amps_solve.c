@@ -80,6 +80,7 @@ void aug_amps_free(aug_amps *a)
     free(a->ca);
     free(a->t2);
     hcorr_free(a->hc);
+    free(a->hcl);
     memset(a, 0, sizeof *a);
 }
 
@@ -122,21 +123,78 @@ static void ebar_times(const aug_amps *a, const aug_cum *c, const double *x, dou
     }
 }
 
-/* y (permuted, n_b) = D^-1 sum_c V(:,c) w(col c) = D^-1 L^-1 P H w_H (eq. 3.20's
-   Kbar^-1 Hbar before L^-T, paper 001); the consecutive tail of a column (the
-   top of the tree) as a dense axpy. set = NULL: y on all n entries; else y is
-   exact only on the closed set set[0..k) (the L^-T that follows reads nothing
-   else, paper 000 thm 2) and holds garbage elsewhere: only the set is cleared
-   and scaled by D^-1, the V columns added where they lie (O(|set| + nnz V),
-   not O(n), for a one-node output set) */
-static void v_times(const aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
-                    int64_t k, double *y)
+/* hcl = closure of H in L' for the memo's columns (the union of their V
+   paths, paper 000 thm 3), kept while the memo and the base stay */
+static int h_closure(aug_amps *a, const aug_base *b)
+{
+    const aug_memo *M = &a->memo;
+    if (a->hcl && a->hcl_b == (const void *)b && a->hcl_m == M->m) return 0;
+    free(a->hcl);
+    a->hcl = aug_malloc((size_t)(2 * b->n + 2) * sizeof *a->hcl);
+    if (!a->hcl) return -1;
+    int32_t *start = a->hcl + b->n + 1;
+    for (int64_t j = 0; j < M->m; j++) start[j] = M->vi[M->vp[j]];
+    a->nhcl = aug_ldl_closure(b, start, M->m, a->hcl, a->mark);
+    a->hcl_b = b, a->hcl_m = M->m;
+    return 0;
+}
+
+/* w = f + Ebar a2 from x = rhs = Hbar'Kbar^-1 f on A (f on S; NULL: 0), by
+   the pivot of a->pivot_used. S2 (paper 001 eq. 3.8, the (1,2) block of S1
+   as pivot): x := a2 = S2^-1 rhs, w = f + Ebar a2. ALT (eqs. 3.16-3.17, the
+   (2,1) block): the forces a3 = -w solved for directly, (Ebar Gbar - I) a3 =
+   Hbar'(f_t - fbar) + Ebar Hbar'Kbar^-1 fbar, i.e. w = f + (I - Ebar Gbar)^-1
+   Ebar rhs = f + S2'^-1 Ebar rhs (aug_schur_solve_t; the same w in exact
+   arithmetic, since Ebar S2^-1 = S2'^-1 Ebar); then x := w on the new DOFs of
+   A (eq. 3.17: a = [a_b; 0] - Kbar^-1 Hbar a3 is w there, Kbar^-1 = I), and
+   x is not a2 on base positions (no one reads it). */
+static void pivot_solve(aug_amps *a, const aug_cum *c, double *x, const double *f, double *wp)
+{
+    const aug_schur *s = &a->schur;
+    if (a->pivot_used == AUG_PIVOT_ALT) {
+        ebar_times(a, c, x, wp); /* Ebar rhs: nonzero on A only */
+        for (int64_t aq = 0; aq < s->na; aq++) x[aq] = wp[s->A[aq]];
+        aug_schur_solve_t(s, x);
+        for (int64_t aq = 0; aq < s->na; aq++) wp[s->A[aq]] = x[aq];
+    } else {
+        aug_schur_solve(s, x);
+        ebar_times(a, c, x, wp);
+    }
+    if (f)
+        for (int64_t p = 0; p < c->ns; p++) wp[p] += f[p];
+    if (a->pivot_used == AUG_PIVOT_ALT)
+        for (int64_t aq = 0; aq < s->na; aq++)
+            if (c->S[s->A[aq]] >= c->nb) x[aq] = wp[s->A[aq]];
+}
+
+/* y (permuted, n_b) = D^-1 L^-1 P H w_H (eq. 3.20's Kbar^-1 Hbar before L^-T,
+   paper 001). By default a forward solve of the one vector P H w over the
+   closure of H (aug_ldl_lsolve_closure_super): its residual is eps |L||y|,
+   while the memo's sum of columns sum_c V(:,c) w(col c) (field_memo) carries
+   eps |L| sum_c |V(:,c)| |w_c|, which the large, cancelling forces Ebar a2 of
+   a cut through a beam make 10-100 x refactor's residual on rows far from
+   H. set = NULL: y on all n entries; else y is exact only on the closed set
+   set[0..k) (the L^-T that follows reads nothing else, paper 000 thm 2) and
+   on the closure of H, garbage elsewhere. The memo's way: the V columns
+   added where they lie, the consecutive tail of a column (the top of the
+   tree) as a dense axpy. tmp: n_b-sized workspace. -1: out of memory (the
+   closure of H). */
+static int v_times(aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
+                   int64_t k, double *y, double *tmp)
 {
     const aug_memo *M = &a->memo;
     if (set)
         for (int64_t t = 0; t < k; t++) y[set[t]] = 0;
     else
         memset(y, 0, (size_t)b->n * sizeof *y);
+    if (!a->field_memo) {
+        if (h_closure(a, b)) return -1;
+        for (int64_t t = 0; t < a->nhcl; t++) y[a->hcl[t]] = 0;
+        for (int64_t j = 0; j < M->m; j++) y[M->vi[M->vp[j]]] += wp[M->col[j]];
+        aug_ldl_lsolve_closure_super(b, a->hcl, a->nhcl, y, tmp);
+        aug_ldl_dsolve(b, set, set ? k : 0, y);
+        return 0;
+    }
     for (int64_t j = 0; j < M->m; j++) {
         double wj = wp[M->col[j]];
         if (wj == 0) continue;
@@ -150,16 +208,18 @@ static void v_times(const aug_amps *a, const aug_base *b, const double *wp, cons
         }
     }
     aug_ldl_dsolve(b, set, set ? k : 0, y);
+    return 0;
 }
 
 /* x (permuted, n_b) := the base part of [a_b; 0] + Kbar^-1 P_S wp on the
    set set[0..k) closed in L': y = D^-1 V wp (v_times), then L^-T over the set
    only (paper 000 thm 2: a closed set's values need nothing outside it) */
-static void closure_field(const aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
-                          int64_t k, double *y)
+static int closure_field(aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
+                         int64_t k, double *y)
 {
-    v_times(a, b, wp, set, k, y);
+    if (v_times(a, b, wp, set, k, y, a->t2)) return -1;
     aug_ldl_ltsolve_closure_super(b, set, k, y, a->t2);
+    return 0;
 }
 
 /* closure_field over the set Q[0..nq), or over all of L when Q is NULL
@@ -167,11 +227,8 @@ static void closure_field(const aug_amps *a, const aug_base *b, const double *wp
 static int field(aug_amps *a, const aug_base *b, const double *wp, const int32_t *Q, int64_t nq,
                  double *y, cholmod_common *cm)
 {
-    if (Q) {
-        closure_field(a, b, wp, Q, nq, y);
-        return 0;
-    }
-    v_times(a, b, wp, NULL, 0, y);
+    if (Q) return closure_field(a, b, wp, Q, nq, y);
+    if (v_times(a, b, wp, NULL, 0, y, a->t2)) return -1;
     return aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm);
 }
 
@@ -305,10 +362,9 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
             for (int64_t j = 0; j < M->m; j++) v += Gp[j] * h->r[M->col[j]];
             h->rh[aq] = v;
         }
-        aug_schur_solve(s, h->rh);
+        pivot_solve(a, c, h->rh, h->r, h->ew); /* ew = r + Ebar dz */
         for (int64_t aq = 0; aq < na; aq++) x[aq] += h->rh[aq];
-        ebar_times(a, c, h->rh, h->ew);
-        for (int64_t p = 0; p < ns; p++) h->ew[p] += h->r[p], dw[p] += h->ew[p];
+        for (int64_t p = 0; p < ns; p++) dw[p] += h->ew[p];
         /* the increment's field over Q, on the pattern added to xt */
         if (field(a, b, h->ew, Q, a->nq, yd, cm)) {
             rc = -2;
@@ -322,6 +378,18 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     return rc;
 }
 
+/* the step's pivot: S2 or ALT as asked; AUTO keeps the last one used unless
+   its backward error on H before correction (berr_h0) exceeded 16 BERR_OK
+   and the other pivot's, when it was last used, was lower (never used: taken
+   as 0, so it is tried once) */
+static int pivot_choice(const aug_amps *a)
+{
+    if (a->pivot != AUG_PIVOT_AUTO) return a->pivot == AUG_PIVOT_ALT ? AUG_PIVOT_ALT : AUG_PIVOT_S2;
+    int p = a->pivot_used == AUG_PIVOT_ALT ? AUG_PIVOT_ALT : AUG_PIVOT_S2;
+    double bp = a->berr_piv[p], bo = a->berr_piv[1 - p];
+    return bp > 16 * BERR_OK && bo < bp ? 1 - p : p;
+}
+
 /* One AMPS step (paper 001 table 1 steps 1-6): V, H'K^-1H and S2 brought up to
    date; a2 = S2^-1 rhs, rhs = H'a_b + H'K^-1H dF_H on base positions, dF on new
    ones (eq. 3.10 with f_t = [f_b; 0] + P_S dF); then eq. 3.20: new DOFs of A take
@@ -333,6 +401,7 @@ int aug_amps_prepare(aug_amps *a, const aug_base *b, const aug_cum *c, double rc
                      double times[3], cholmod_common *cm, aug_err *e)
 {
     double t0 = now_ms();
+    a->pivot_used = pivot_choice(a);
     if (scratch(a, b, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     int rc = aug_memo_reach(&a->memo, b, c, cm, e);
     double t1 = now_ms();
@@ -367,14 +436,14 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
         for (int64_t j = 0; j < M->m; j++) v += Gp[j] * c->dF[M->col[j]];
         x[aq] = v;
     }
-    aug_schur_solve(s, x);
-    /* eq. 3.20: a = a_b + K^-1 H (dF + Ebar a2) off A */
-    ebar_times(a, c, x, wp);
-    for (int64_t p = 0; p < c->ns; p++) wp[p] += c->dF[p];
+    /* a2 = S2^-1 rhs (or eqs. 3.16-3.17's pivot), wp = dF + Ebar a2;
+       eq. 3.20: a = a_b + K^-1 H wp off A */
+    pivot_solve(a, c, x, c->dF, wp);
     double *dw = a->w + a->xcap; /* the correction's sum of w increments */
     int fc = field_corrected(a, b, c, out, nout, x, wp, dw, cm);
     if (fc == -1) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     if (fc) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
+    if (!isnan(a->berr_h0)) a->berr_piv[a->pivot_used] = a->berr_h0;
     int64_t cnt = out ? nout : c->n;
     for (int64_t t = 0; t < cnt; t++) {
         int64_t i = out ? out[t] : t;
@@ -441,9 +510,8 @@ int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
         xa[aq] = i < c->nb ? y[b->pinv[i]] : r[i];
     }
     /* a2 = S2^-1 Hbar'Kbar^-1 r; x = Kbar^-1 (r + Hbar Ebar a2) */
-    aug_schur_solve(s, xa);
-    ebar_times(a, c, xa, wp);
-    v_times(a, b, wp, NULL, 0, y);
+    pivot_solve(a, c, xa, NULL, wp);
+    if (v_times(a, b, wp, NULL, 0, y, x)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     for (int64_t t = 0; t < b->n; t++) y[t] += z[t];
     if (aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm))
         return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);

@@ -376,6 +376,50 @@ void aug_ldl_ltsolve_closure_super(const aug_base *b, const int32_t *set, int64_
     }
 }
 
+/* x := L^-1 x = D^1/2 Ls^-1 x on the etree closure set (ascending; x zero
+   outside it, and so is L^-1 x: paper 000 thm 1), supernode by supernode
+   (dtrsv + dgemv, the update scattered to the rows below, which lie in the
+   set); column by column (aug_ldl_lsolve) without Ls or when a supernode's
+   rows in set are not a suffix of its columns. tmp: n-sized workspace. */
+void aug_ldl_lsolve_closure_super(const aug_base *b, const int32_t *set, int64_t k, double *x,
+                                  double *tmp)
+{
+    if (!b->Ls) {
+        aug_ldl_lsolve(b, set, k, x);
+        return;
+    }
+    const cholmod_factor *L = b->Ls;
+    const int *sup = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    for (int64_t t = 0; t < k;) {
+        int32_t s = b->super_of[set[t]];
+        int64_t t1 = t;
+        while (t1 + 1 < k && set[t1 + 1] < sup[s + 1]) t1++;
+        if (set[t1] != sup[s + 1] - 1 || set[t1] - set[t] != t1 - t) {
+            aug_ldl_lsolve(b, set, k, x);
+            return;
+        }
+        t = t1 + 1;
+    }
+    for (int64_t t = 0; t < k;) {
+        int32_t s = b->super_of[set[t]];
+        int k1 = sup[s], nscol = sup[s + 1] - k1, nsrow = pi[s + 1] - pi[s];
+        int o = set[t] - k1, nc = nscol - o, nb = nsrow - nscol;
+        const double *A = Lx + px[s];
+        double *xs = x + k1 + o;
+        cblas_dtrsv(CblasColMajor, CblasLower, CblasNoTrans, CblasNonUnit, nc, A + o + (size_t)o * nsrow,
+                    nsrow, xs, 1);
+        if (nb > 0) {
+            const int *rows = Ls + pi[s] + nscol;
+            cblas_dgemv(CblasColMajor, CblasNoTrans, nb, nc, 1.0, A + nscol + (size_t)o * nsrow, nsrow,
+                        xs, 1, 0.0, tmp, 1);
+            for (int r = 0; r < nb; r++) x[rows[r]] -= tmp[r];
+        }
+        t += nc;
+    }
+    for (int64_t t = 0; t < k; t++) x[set[t]] *= b->sqrtd[set[t]];
+}
+
 /* x := L^-T x = Ls^-T (D^1/2 x) when the supernodal factor exists */
 int aug_ldl_ltsolve_all(const aug_base *b, double *x, cholmod_dense **X, cholmod_dense **Yw,
                         cholmod_dense **Ew, cholmod_common *cm)

@@ -339,6 +339,7 @@ static void cut_size(const aug_solver *s, aug_kv *st)
 static int amps_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
     s->amps.kt = &s->cut, s->amps.correct_max = s->o.amps_correct; /* the correction on H */
+    s->amps.pivot = s->o.amps_pivot, s->amps.field_memo = s->o.amps_field_memo;
     int rc = aug_amps_step(&s->amps, s->base, &s->cum, q->full ? NULL : q->out, q->nout, s->o.rcond_min,
                            r->x, r->t, s->cm, e);
     r->sing = s->amps.schur.singular;
@@ -348,6 +349,7 @@ static int amps_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 static int amps_prep(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
     (void)q;
+    s->amps.pivot = s->o.amps_pivot, s->amps.field_memo = s->o.amps_field_memo;
     int rc = aug_amps_prepare(&s->amps, s->base, &s->cum, s->o.rcond_min, r->t, s->cm, e);
     r->sing = s->amps.schur.singular;
     return rc;
@@ -377,6 +379,7 @@ static void amps_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
         put(st, "berr_h0", a->berr_h0), put(st, "berr_h", a->berr_h);
         put(tm, "correct_ms", a->t_correct);
     }
+    put(st, "pivot", a->pivot_used);
     put(tm, "reach", r->t[0]), put(tm, "memo", r->t[1]), put(tm, "schur", r->t[2]), put(tm, "solve", r->t[3]);
 }
 
