@@ -330,6 +330,22 @@ nomem:
     return -1;
 }
 
+/* 1 when the rows of the ascending etree closure set[0..k) in each supernode
+   of b->Ls are a suffix of its columns (contiguous, ending at its last
+   column), as the supernodal closure solves need; 0 else */
+static int closure_suffixes(const aug_base *b, const int32_t *set, int64_t k)
+{
+    const int *sup = b->Ls->super;
+    for (int64_t t = 0; t < k;) {
+        int32_t s = b->super_of[set[t]];
+        int64_t t1 = t;
+        while (t1 + 1 < k && set[t1 + 1] < sup[s + 1]) t1++;
+        if (set[t1] != sup[s + 1] - 1 || set[t1] - set[t] != t1 - t) return 0;
+        t = t1 + 1;
+    }
+    return 1;
+}
+
 /* x := L^-T x = Ls^-T (D^1/2 x) on the rows of the etree closure set only (paper
    000 thm 2), supernode by supernode (dgemv + dtrsv); column by column
    (aug_ldl_ltsolve) when a supernode's rows in set are not a suffix of its columns */
@@ -345,15 +361,9 @@ void aug_ldl_ltsolve_closure_super(const aug_base *b, const int32_t *set, int64_
     const double *Lx = L->x;
     /* a supernode's rows in a closure are a suffix of its columns (within a
        supernode the parent of a column is the next one); else column-wise */
-    for (int64_t t = k - 1; t >= 0;) {
-        int32_t s = b->super_of[set[t]];
-        int64_t t0 = t;
-        while (t0 > 0 && set[t0 - 1] >= sup[s]) t0--;
-        if (set[t] != sup[s + 1] - 1 || set[t] - set[t0] != t - t0) {
-            aug_ldl_ltsolve(b, set, k, x);
-            return;
-        }
-        t = t0 - 1;
+    if (!closure_suffixes(b, set, k)) {
+        aug_ldl_ltsolve(b, set, k, x);
+        return;
     }
     for (int64_t t = 0; t < k; t++) x[set[t]] *= b->sqrtd[set[t]];
     for (int64_t t = k - 1; t >= 0;) {
@@ -391,15 +401,9 @@ void aug_ldl_lsolve_closure_super(const aug_base *b, const int32_t *set, int64_t
     const cholmod_factor *L = b->Ls;
     const int *sup = L->super, *pi = L->pi, *px = L->px, *Ls = L->s;
     const double *Lx = L->x;
-    for (int64_t t = 0; t < k;) {
-        int32_t s = b->super_of[set[t]];
-        int64_t t1 = t;
-        while (t1 + 1 < k && set[t1 + 1] < sup[s + 1]) t1++;
-        if (set[t1] != sup[s + 1] - 1 || set[t1] - set[t] != t1 - t) {
-            aug_ldl_lsolve(b, set, k, x);
-            return;
-        }
-        t = t1 + 1;
+    if (!closure_suffixes(b, set, k)) {
+        aug_ldl_lsolve(b, set, k, x);
+        return;
     }
     for (int64_t t = 0; t < k;) {
         int32_t s = b->super_of[set[t]];
