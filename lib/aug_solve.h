@@ -81,6 +81,8 @@ double aug_cutmat_relres(aug_cutmat *m, const double *x);
 /* The part of relres on the rows where K_t differs from K0 (S): O(|S| row
    length + nnz(Ebar)) instead of a product with all of K_t. */
 double aug_cutmat_relres_changed(aug_cutmat *m, const double *x);
+/* ||f_t||_2, in O(n0 + |S|) */
+double aug_cutmat_fnorm(const aug_cutmat *m);
 /* r = f_t - K_t x; returns ||r|| / ||f_t|| (absolute when f_t = 0). */
 double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r);
 /* The same against a right-hand side b (NULL: f_t). */
@@ -111,6 +113,7 @@ typedef struct aug_base {
     int32_t *perm;       /* perm[k]: original index of permuted position k */
     int32_t *pinv;       /* pinv[i]: permuted position of original index i */
     double *a;           /* a_b (original order) */
+    double rnorm, anorm; /* ||f_b - K_b a_b||_2 (NAN: K_b not given), ||a_b||_2 */
     int32_t step;        /* step whose matrix K_b is (-1: K_0) */
     int refs;            /* shared by methods: freed when it drops to 0 */
     cholmod_factor *Ls;  /* supernodal L L' with the same permutation, for
@@ -288,6 +291,10 @@ typedef struct aug_amps {
     int ncorrect;        /* sweeps the last step applied */
     double berr_h0, berr_h; /* componentwise backward error on the rows of H
                             before the first and after the last sweep measured */
+    double floor_k;      /* no sweep once relres_h <= floor_k times the base's
+                            residual scaled to the step (0: berr alone) */
+    double relres_h0, relres_h, relres_floor; /* ||r_H|| / ||f_t|| before
+                            and after, and that floor */
     double t_correct;    /* ms the last step's correction took */
     struct aug_hcorr *hc; /* its workspace */
     /* the field's Kbar^-1 Hbar w (amps_solve.c, v_times): 0 by a forward

@@ -261,6 +261,27 @@ static int64_t closure2(const aug_base *b, int64_t nb, const int32_t *i1, int64_
    stops: a few units of rounding */
 #define BERR_OK 4e-16
 
+/* The residual the rows outside H carry, relative to ||f_t||: every row of
+   K_t outside S is solved to the rounding of one back-substitution with the
+   base's factor, which scales with the solution; the base's own solve
+   a_b = K_b^-1 f_b shows its size, so that part is about
+   ||f_b - K_b a_b|| ||x_t|| / (||a_b|| ||f_t||), x_t from the base DOFs of
+   the field y (permuted; NULL, an output set: ||x_t|| taken as ||a_b||).
+   Times floor_k; 0 when the base has no residual or floor_k is 0. */
+static double relres_floor(const aug_amps *a, const aug_base *b, const aug_cum *c, const double *y,
+                           double fnorm)
+{
+    if (!(a->floor_k > 0) || !isfinite(b->rnorm) || !(b->anorm > 0) || !(fnorm > 0)) return 0;
+    double xx = 0;
+    if (y)
+        for (int64_t i = 0; i < c->nb; i++) {
+            double v = b->a[i] + y[b->pinv[i]];
+            xx += v * v;
+        }
+    double xn = y ? sqrt(xx) : b->anorm;
+    return a->floor_k * b->rnorm * xn / (b->anorm * fnorm);
+}
+
 /* The field of eq. 3.20 and its correction on the small system (paper 001
    eq. 3.8 with a residual right-hand side; issue 15 items 1 and 5), over one
    set: y (permuted, n_b) = Kbar^-1 P_S w on Q = the closure in L' of the
@@ -284,16 +305,19 @@ static int64_t closure2(const aug_base *b, int64_t nb, const int32_t *i1, int64_
    back rounding of the size being removed. The residual is summed in long
    double (aug_cutmat_rows_residual). A sweep is taken while the normwise
    backward error max|r| / max(|K_t||x| + |f_t|) on those rows exceeds
-   BERR_OK, at most correct_max times; one that does not lower it is
-   undone (its increment never joins y), one that lowers it by less than
-   10% is the last. dw (S-sized) is zero when no sweep was kept. Sets
-   ncorrect, berr_h0, berr_h, t_correct, nq (|Q|; Q in a->q when out is
+   BERR_OK and the part of the relative residual on those rows, relres_h =
+   ||r_H|| / ||f_t||, exceeds relres_floor (below the residual the other
+   rows carry a sweep buys nothing the step's relres shows), at most
+   correct_max times; one that does not lower it is undone (its increment
+   never joins y), one that lowers it by less than 10% is the last. dw
+   (S-sized) is zero when no sweep was kept. Sets ncorrect, berr_h0,
+   berr_h, relres_h0, relres_h, relres_floor, t_correct, nq (|Q|; Q in a->q when out is
    given). Returns 0, -1 (memory) or -2 (the supernodal solve failed). */
 static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
                            int64_t nout, double *x, const double *wp, double *dw, cholmod_common *cm)
 {
     a->ncorrect = 0;
-    a->berr_h0 = a->berr_h = NAN;
+    a->berr_h0 = a->berr_h = a->relres_h0 = a->relres_h = a->relres_floor = NAN;
     a->t_correct = 0;
     const aug_schur *s = &a->schur;
     const aug_memo *M = &a->memo;
@@ -318,7 +342,8 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     /* xt: the field on the pattern, base DOFs from y, then the increments */
     for (int64_t t = 0; t < np; t++)
         if (h->pat[t] < c->nb) h->xt[h->pat[t]] = b->a[h->pat[t]] + y[b->pinv[h->pat[t]]];
-    double *yd = h->yd, prev = INFINITY;
+    double *yd = h->yd, prev = INFINITY, prev_rs = NAN, fnorm = aug_cutmat_fnorm(a->kt);
+    a->relres_floor = relres_floor(a, b, c, Q ? NULL : y, fnorm);
     int rc = 0;
     for (int it = 0;; it++) {
         for (int64_t t = 0; t < np; t++) {
@@ -335,19 +360,23 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
             if (h->ka[p] > kmax) kmax = h->ka[p];
         }
         berr = kmax > 0 ? rmax / kmax : rmax > 0 ? INFINITY : 0;
-        if (it == 0) a->berr_h0 = berr;
+        double rs = 0;
+        for (int64_t p = 0; p < ns; p++) rs += h->r[p] * h->r[p];
+        rs = fnorm > 0 ? sqrt(rs) / fnorm : sqrt(rs);
+        if (it == 0) a->berr_h0 = berr, a->relres_h0 = rs;
         if (berr > prev) { /* the last sweep made it worse: undone */
             memcpy(x, h->x0, (size_t)na * sizeof *x);
             memcpy(dw, h->w0, (size_t)ns * sizeof *dw);
             a->ncorrect--;
-            a->berr_h = prev;
+            a->berr_h = prev, a->relres_h = prev_rs;
             break;
         }
         if (it > 0) /* the last sweep kept: its field joins y */
             for (int64_t t = 0; t < a->nq; t++) y[Q ? Q[t] : t] += yd[Q ? Q[t] : t];
-        a->berr_h = berr;
-        if (berr <= BERR_OK || it == a->correct_max || (it > 0 && berr > 0.9 * prev)) break;
-        prev = berr;
+        a->berr_h = berr, a->relres_h = rs;
+        if (berr <= BERR_OK || rs <= a->relres_floor || it == a->correct_max || (it > 0 && berr > 0.9 * prev))
+            break;
+        prev = berr, prev_rs = rs;
         memcpy(h->x0, x, (size_t)na * sizeof *x);
         memcpy(h->w0, dw, (size_t)ns * sizeof *dw);
         /* dz = S2^-1 (Kbar^-1 P_S r)_A: H'K^-1H r on base DOFs, r itself on new ones */

@@ -249,6 +249,21 @@ double aug_cutmat_residual_b(aug_cutmat *m, const double *x, const double *b, do
     return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
 }
 
+/* ||f_t||_2 with f_t = [f0; 0] + P_S dF: ||f0||^2 with the rows of S
+   replaced (S holds each row once) */
+double aug_cutmat_fnorm(const aug_cutmat *m)
+{
+    const aug_cum *c = &m->cum;
+    double ff = 0;
+    for (int64_t i = 0; i < m->n0; i++) ff += m->f0[i] * m->f0[i];
+    for (int64_t p = 0; p < c->ns; p++) {
+        int64_t i = c->S[p];
+        double f0 = i < m->n0 ? m->f0[i] : 0, ft = f0 + c->dF[p];
+        ff += ft * ft - f0 * f0;
+    }
+    return sqrt(ff > 0 ? ff : 0);
+}
+
 /* sqrt(sum over i in S of (f_t - K_t x)_i^2) / ||f_t||_2: relres on the rows
    where K_t differs from K_0 (row i of Kbar = its column: K_0 is kept full) */
 double aug_cutmat_relres_changed(aug_cutmat *m, const double *x)
