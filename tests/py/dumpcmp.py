@@ -14,7 +14,7 @@ both texts compares numerically, every other token exactly. Numbers a
   |a - b| <= RTOL * S, S = the largest magnitude in the same field: an entry
       at rounding level against its array (a matrix entry that cancels to
       1e-17, a displacement component of 1e-19) is noise, not drift, or
-  the key is a residual (relres, err_*) and |a - b| <= RES_ATOL: these
+  the key is a residual (relres*, berr_*, err_*) and |a - b| <= RES_ATOL: these
       measure rounding error itself (1e-15), whose digits are not
       reproducible across BLAS or compiler versions.
 A field is a line indented by two spaces with its continuation lines (four
@@ -25,7 +25,7 @@ import sys
 
 RTOL = 1e-9
 RES_ATOL = 1e-10
-RESIDUAL = re.compile(r"^(relres|err_\w+)$")
+RESIDUAL = re.compile(r"^(relres\w*|berr_\w+|err_\w+)$")
 INDEX = re.compile(r"^\d+:$")
 PROG_DIR = re.compile(r'^(\s*")/[^" ]*/')
 
