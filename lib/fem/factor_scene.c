@@ -134,7 +134,7 @@ int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
         aug_kv_set(&k, "nev", r->modes.nev);
         aug_kv_set(&k, "converged", r->modes.converged);
         aug_kv_set(&k, "iters", r->modes.iters);
-        char key[16];
+        char key[32]; /* "period_" and any int */
         for (int i = 0; i < r->modes.nev; i++) {
             double l = r->modes.lambda[i];
             snprintf(key, sizeof key, "lambda_%d", i + 1);

@@ -151,7 +151,8 @@ static cholmod_factor *analyze_given(aug_bg *bg, int nmethods)
    and the least fill becomes lnz_ref. The extended ordering puts every new DOF
    last, on top of the elimination tree, so its fill grows with the steps (the
    1 x 1 x 2 brick in 8 x 20 x 48 cells, one node a step: +50% in 1,000 steps,
-   and both bases in memory with it). */
+   and both bases in memory with it: hence tighter than the 1.2 of the
+   refactor baseline, AUG_REFACTOR_FILL, which holds one factor). */
 #define REORDER_FILL 1.1
 static cholmod_factor *analyze(aug_bg *bg)
 {
