@@ -6,7 +6,7 @@
 #       no refine, as the thesis's "no optimisation"): intersected elements,
 #       mean aspect and area ratio of the split elements, cond(K_t) (factor's
 #       ARPACK on the cut mesh), pcg (Jacobi, IC(0), IC(0) on the AMD
-#       ordering) iterations and ms,
+#       ordering) iterations and CG ms, the IC(0) factorization ms apart,
 #       refactor and amps ms, the lowest solver-bound frame rate 1000 / (the
 #       slowest step's ms) of each, and the thesis's numbers.
 #  t54: table 5.4: VARIANTS54 random single cuts: K_t as it is (the thesis's
@@ -44,7 +44,7 @@ done
 R="python3 bench/refine_tools.py"; T="python3 bench/thesis_tools.py"
 make --no-print-directory -s build/scenes/square.msh > /dev/null || exit 1
 bin/meshload build/scenes/square.msh --fix fixed --load top:0,1 | bin/factor --no-cond > $TMP/sq.aug || exit 1
-STEPCOLS="label,step,method,n,iters,converged,relres,relres_t,cond,cond_k,spd,err_chol,err_scaled,ns_iters,ic_shift,time_ms,iter,cov,decomp,normalise,recomp,cg,diag"
+STEPCOLS="label,step,method,n,iters,converged,relres,relres_t,cond,cond_k,spd,err_chol,err_scaled,ns_iters,ic_shift,time_ms,iter,cov,decomp,normalise,recomp,cg,diag,ic_factor"
 # solve LABEL STREAM OUTCSV ARGS...: solve-aug ARGS on STREAM, its per-step rows appended to OUTCSV
 solve() { l=$1 s=$2 o=$3; shift 3
     bin/solve-aug "$s" --on-singular report "$@" > $TMP/s.aug 2> $TMP/s.err || { echo "thesis.sh: $l: $(cat $TMP/s.err)" >&2; return 1; }
@@ -63,7 +63,7 @@ pcg_as() { pl=$1 po=$3 pn=$4
 
 # ---- tables 5.1-5.2
 C52=$OUT/thesis_t52.csv
-part t52 && echo "pattern,variant,intersected,aspect_mean,area_ratio,cond,pcg_iters,pcg_ms,pcg_ic_iters,pcg_ic_ms,refactor_ms,amps_ms,fps_pcg,fps_pcg_ic,fps_refactor,fps_amps,thesis_intersected,thesis_aspect,thesis_area,thesis_cond,thesis_cg_ms,thesis_fps,pcg_icamd_iters,pcg_icamd_ms,fps_pcg_icamd" > $C52
+part t52 && echo "pattern,variant,intersected,aspect_mean,area_ratio,cond,pcg_iters,pcg_ms,pcg_ic_iters,pcg_ic_ms,refactor_ms,amps_ms,fps_pcg,fps_pcg_ic,fps_refactor,fps_amps,thesis_intersected,thesis_aspect,thesis_area,thesis_cond,thesis_cg_ms,thesis_fps,pcg_icamd_iters,pcg_icamd_ms,fps_pcg_icamd,pcg_ic_factor_ms,pcg_icamd_factor_ms" > $C52
 part t52 && for pat in single intersecting flower many; do
     case $pat in
         single) th="151,4.26,0.16,1.37e5,68.21,13.39" ;; intersecting) th="152,4.64,0.37,5.08e5,74.27,12.48" ;;
@@ -86,7 +86,7 @@ part t52 && for pat in single intersecting flower many; do
         pcg_as x $TMP/c.aug $TMP/r.csv pcg_icamd ic-amd || exit 1
         (echo "$STEPCOLS"; cat $TMP/r.csv) > $TMP/rh.csv
         fps() { awk -v t="$(col $TMP/rh.csv $1 time_ms)" 'BEGIN { printf "%.2f", (t > 0 ? 1000 / t : 0) }'; }
-        echo "$pat,$v,$($T kv $TMP/q.aug qUAl refine intersected sum),$($T kv $TMP/q.aug qUAl refine aspect_mean0 mean),$($T kv $TMP/q.aug qUAl refine area_ratio0 mean),$($T kv $TMP/fac.aug cOND arpack-lanczos cond sum),$(sumc $TMP/rh.csv pcg iters),$(sumc $TMP/rh.csv pcg iter),$(sumc $TMP/rh.csv pcg_ic iters),$(sumc $TMP/rh.csv pcg_ic iter),$(sumc $TMP/rh.csv refactor time_ms),$(sumc $TMP/rh.csv amps time_ms),$(fps pcg),$(fps pcg_ic),$(fps refactor),$(fps amps),$th,$(sumc $TMP/rh.csv pcg_icamd iters),$(sumc $TMP/rh.csv pcg_icamd iter),$(fps pcg_icamd)" >> $C52
+        echo "$pat,$v,$($T kv $TMP/q.aug qUAl refine intersected sum),$($T kv $TMP/q.aug qUAl refine aspect_mean0 mean),$($T kv $TMP/q.aug qUAl refine area_ratio0 mean),$($T kv $TMP/fac.aug cOND arpack-lanczos cond sum),$(sumc $TMP/rh.csv pcg iters),$(sumc $TMP/rh.csv pcg iter),$(sumc $TMP/rh.csv pcg_ic iters),$(sumc $TMP/rh.csv pcg_ic iter),$(sumc $TMP/rh.csv refactor time_ms),$(sumc $TMP/rh.csv amps time_ms),$(fps pcg),$(fps pcg_ic),$(fps refactor),$(fps amps),$th,$(sumc $TMP/rh.csv pcg_icamd iters),$(sumc $TMP/rh.csv pcg_icamd iter),$(fps pcg_icamd),$(sumc $TMP/rh.csv pcg_ic ic_factor),$(sumc $TMP/rh.csv pcg_icamd ic_factor)" >> $C52
         echo "t52 $pat $v done" >&2
         v=$((v + 1))
     done
@@ -154,7 +154,7 @@ fi
 
 # ---- per method of each part
 CM=$OUT/thesis_methods.csv
-echo "label,method,steps,n_max,iters_max,ms_max,cond_max,cond_k_max,err_chol_max,relres_max,all_converged" > $CM
+echo "label,method,steps,n_max,iters_max,ms_max,cond_max,cond_k_max,err_chol_max,relres_max,all_converged,cg_ms_max,ic_factor_ms_max" > $CM
 for f in $C54 $CK $CS; do
     [ -f $f ] || continue
     for l in $(awk -F, 'NR > 1 { print $1 }' $f | sort -u); do $T per_method $f $l >> $CM; done
@@ -174,6 +174,7 @@ set title "tables 5.1-5.2: CG ms per run"
 set ylabel "ms"
 plot "$C52" every ::1 using 0:8 with points pt 7 title "pcg Jacobi", "" every ::1 using 0:10 with points pt 5 title "pcg IC(0)", \
      "" every ::1 using 0:24 with points pt 13 title "pcg IC(0) AMD", \
+     "" every ::1 using 0:26 with points pt 1 title "IC(0) factorization", "" every ::1 using 0:27 with points pt 2 title "IC(0) AMD factorization", \
      "" every ::1 using 0:11 with points pt 9 title "refactor", "" every ::1 using 0:12 with points pt 11 title "amps", \
      "" every ::1 using 0:21 with points pt 4 title "thesis CG"
 unset logscale y
