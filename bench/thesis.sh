@@ -23,7 +23,7 @@
 #       the time split of fig. 5.20 (cov, decomp, normalise, recomp, cg).
 # Writes bench/out/thesis_t52.csv, thesis_t54.csv, thesis_kiri.csv,
 # thesis_kiri_s.csv, thesis_methods.csv (per method of each part: max n,
-# iterations, ms, cond, error), thesis.png.
+# iterations, ms, cond, error), thesis.png (the panels of the parts run).
 # Env: VARIANTS (10), VARIANTS54 (3), MAXIT54 (3000), KSTEPS ("1 10 20"), KS (16),
 # PARTS ("t52 t54 kiri kiri_dense kiri_s": the parts to run; the others' CSVs
 # are kept from an earlier run).
@@ -161,25 +161,26 @@ for f in $C54 $CK $CS; do
 done
 column -s, -t < $CM
 
-if command -v gnuplot > /dev/null; then
-    gnuplot <<EOF
-set terminal pngcairo size 1600,1000 noenhanced
-set output "$OUT/thesis.png"
-set datafile separator ","
-set multiplot layout 2,3
+# thesis.png: the panels of the parts this run ran (PARTS), none left empty
+GP=$TMP/thesis.gp np=0
+: > $GP
+if part t52; then np=$((np + 2)); cat >> $GP <<EOF
 set title "tables 5.1-5.2: cond(K_t) per run"
 set logscale y; set xlabel "run (single, intersecting, flower, many)"; set ylabel "cond"
 plot "$C52" every ::1 using 0:6 with points pt 7 title "measured", "" every ::1 using 0:20 with points pt 4 title "thesis"
-set title "tables 5.1-5.2: CG ms per run"
+set title "tables 5.1-5.2: CG ms per run (IC(0) factorization apart)"
 set ylabel "ms"
-plot "$C52" every ::1 using 0:8 with points pt 7 title "pcg Jacobi", "" every ::1 using 0:10 with points pt 5 title "pcg IC(0)", \
-     "" every ::1 using 0:24 with points pt 13 title "pcg IC(0) AMD", \
+plot "$C52" every ::1 using 0:8 with points pt 7 title "pcg Jacobi", "" every ::1 using 0:10 with points pt 5 title "pcg IC(0) CG", \
+     "" every ::1 using 0:24 with points pt 13 title "pcg IC(0) AMD CG", \
      "" every ::1 using 0:26 with points pt 1 title "IC(0) factorization", "" every ::1 using 0:27 with points pt 2 title "IC(0) AMD factorization", \
      "" every ::1 using 0:11 with points pt 9 title "refactor", "" every ::1 using 0:12 with points pt 11 title "amps", \
      "" every ::1 using 0:21 with points pt 4 title "thesis CG"
 unset logscale y
+EOF
+fi
+if part kiri; then np=$((np + 2)); cat >> $GP <<EOF
 set title "fig. 5.17: dimension of K_t per kirigami step"
-set xlabel "step"; set ylabel "n"
+unset logscale y; set xlabel "step"; set ylabel "n"
 plot "< grep '^kiri,[0-9]*,pcg,' $CK" using 2:4 with linespoints pt 7 title "K_t"
 set title "fig. 5.18: solver-bound frame rate 1000 / ms"
 set logscale y; set ylabel "frames / s"
@@ -188,8 +189,12 @@ plot "< grep '^kiri,[0-9]*,pcg,' $CK" using 2:(1000/\$16) with linespoints title
      "< grep '^kiri,[0-9]*,pcg_icamd,' $CK" using 2:(1000/\$16) with linespoints title "pcg IC(0) AMD", \
      "< grep '^kiri,[0-9]*,refactor,' $CK" using 2:(1000/\$16) with linespoints title "refactor", \
      "< grep '^kiri,[0-9]*,amps,' $CK" using 2:(1000/\$16) with linespoints title "amps", 30 dt 2 title "30 FPS"
+unset logscale y
+EOF
+fi
+if part kiri_s; then np=$((np + 2)); cat >> $GP <<EOF
 set title "small kirigami: error against CHOLMOD"
-set ylabel "||x - u|| / ||u||"
+set logscale y; set xlabel "step"; set ylabel "||x - u|| / ||u||"
 plot "< grep ',cgm-es,' $CS" using 2:12 with linespoints title "cgm-es", "< grep ',cgm-as,' $CS" using 2:12 with linespoints title "cgm-as", \
      "< grep ',cgm-log,' $CS" using 2:12 with linespoints title "cgm-log", "< grep ',cgm-cov,' $CS" using 2:12 with linespoints title "cgm-cov", \
      "< grep ',pcg,' $CS" using 2:(\$7 > 0 ? \$7 : 1e-16) with linespoints title "pcg relres"
@@ -198,7 +203,18 @@ unset logscale y; set style data histograms; set style histogram rowstacked; set
 set ylabel "ms"; set xlabel ""
 plot "< for m in cgm-es cgm-as; do awk -F, -v m=\$m '\$3 == m { c += \$18; d += \$19; n += \$20; r += \$21; g += \$22 } END { print m \",\" c \",\" d \",\" n \",\" r \",\" g }' $CS; done" \
      using 2:xtic(1) title "cov", "" using 3 title "decomp", "" using 4 title "normalise", "" using 5 title "recomp", "" using 6 title "cg"
-unset multiplot
 EOF
 fi
-echo "thesis.sh: wrote $C52 $C54 $CK $CS $CM $OUT/thesis.png"
+PNG=""
+if [ $np -gt 0 ] && command -v gnuplot > /dev/null; then
+    cols=$np; [ $np -gt 3 ] && cols=$(( np == 4 ? 2 : 3 )); rows=$(( (np + cols - 1) / cols ))
+    { echo "set terminal pngcairo size $((cols * 540)),$((rows * 500)) noenhanced"
+      echo "set output \"$OUT/thesis.png\""
+      echo 'set datafile separator ","'
+      echo "set multiplot layout $rows,$cols"
+      cat $GP
+      echo "unset multiplot"; } | gnuplot && PNG=" $OUT/thesis.png"
+elif [ $np -eq 0 ]; then
+    echo "thesis.sh: PARTS=\"$PARTS\" has no plotted part (t52, kiri, kiri_s): no thesis.png" >&2
+fi
+echo "thesis.sh: wrote $C52 $C54 $CK $CS $CM$PNG"
