@@ -6,7 +6,7 @@
 #       no refine, as the thesis's "no optimisation"): intersected elements,
 #       mean aspect and area ratio of the split elements, cond(K_t) (factor's
 #       ARPACK on the cut mesh), pcg (Jacobi, IC(0), IC(0) on the AMD
-#       ordering) iterations and ms,
+#       ordering) iterations and CG ms, the IC(0) factorization ms apart,
 #       refactor and amps ms, the lowest solver-bound frame rate 1000 / (the
 #       slowest step's ms) of each, and the thesis's numbers.
 #  t54: table 5.4: VARIANTS54 random single cuts: K_t as it is (the thesis's
@@ -23,7 +23,7 @@
 #       the time split of fig. 5.20 (cov, decomp, normalise, recomp, cg).
 # Writes bench/out/thesis_t52.csv, thesis_t54.csv, thesis_kiri.csv,
 # thesis_kiri_s.csv, thesis_methods.csv (per method of each part: max n,
-# iterations, ms, cond, error), thesis.png.
+# iterations, ms, cond, error), thesis.png (the panels of the parts run).
 # Env: VARIANTS (10), VARIANTS54 (3), MAXIT54 (3000), KSTEPS ("1 10 20"), KS (16),
 # PARTS ("t52 t54 kiri kiri_dense kiri_s": the parts to run; the others' CSVs
 # are kept from an earlier run).
@@ -44,7 +44,7 @@ done
 R="python3 bench/refine_tools.py"; T="python3 bench/thesis_tools.py"
 make --no-print-directory -s build/scenes/square.msh > /dev/null || exit 1
 bin/meshload build/scenes/square.msh --fix fixed --load top:0,1 | bin/factor --no-cond > $TMP/sq.aug || exit 1
-STEPCOLS="label,step,method,n,iters,converged,relres,relres_t,cond,cond_k,spd,err_chol,err_scaled,ns_iters,ic_shift,time_ms,iter,cov,decomp,normalise,recomp,cg,diag"
+STEPCOLS="label,step,method,n,iters,converged,relres,relres_t,cond,cond_k,spd,err_chol,err_scaled,ns_iters,ic_shift,time_ms,iter,cov,decomp,normalise,recomp,cg,diag,ic_factor"
 # solve LABEL STREAM OUTCSV ARGS...: solve-aug ARGS on STREAM, its per-step rows appended to OUTCSV
 solve() { l=$1 s=$2 o=$3; shift 3
     bin/solve-aug "$s" --on-singular report "$@" > $TMP/s.aug 2> $TMP/s.err || { echo "thesis.sh: $l: $(cat $TMP/s.err)" >&2; return 1; }
@@ -63,7 +63,7 @@ pcg_as() { pl=$1 po=$3 pn=$4
 
 # ---- tables 5.1-5.2
 C52=$OUT/thesis_t52.csv
-part t52 && echo "pattern,variant,intersected,aspect_mean,area_ratio,cond,pcg_iters,pcg_ms,pcg_ic_iters,pcg_ic_ms,refactor_ms,amps_ms,fps_pcg,fps_pcg_ic,fps_refactor,fps_amps,thesis_intersected,thesis_aspect,thesis_area,thesis_cond,thesis_cg_ms,thesis_fps,pcg_icamd_iters,pcg_icamd_ms,fps_pcg_icamd" > $C52
+part t52 && echo "pattern,variant,intersected,aspect_mean,area_ratio,cond,pcg_iters,pcg_ms,pcg_ic_iters,pcg_ic_ms,refactor_ms,amps_ms,fps_pcg,fps_pcg_ic,fps_refactor,fps_amps,thesis_intersected,thesis_aspect,thesis_area,thesis_cond,thesis_cg_ms,thesis_fps,pcg_icamd_iters,pcg_icamd_ms,fps_pcg_icamd,pcg_ic_factor_ms,pcg_icamd_factor_ms" > $C52
 part t52 && for pat in single intersecting flower many; do
     case $pat in
         single) th="151,4.26,0.16,1.37e5,68.21,13.39" ;; intersecting) th="152,4.64,0.37,5.08e5,74.27,12.48" ;;
@@ -86,7 +86,7 @@ part t52 && for pat in single intersecting flower many; do
         pcg_as x $TMP/c.aug $TMP/r.csv pcg_icamd ic-amd || exit 1
         (echo "$STEPCOLS"; cat $TMP/r.csv) > $TMP/rh.csv
         fps() { awk -v t="$(col $TMP/rh.csv $1 time_ms)" 'BEGIN { printf "%.2f", (t > 0 ? 1000 / t : 0) }'; }
-        echo "$pat,$v,$($T kv $TMP/q.aug qUAl refine intersected sum),$($T kv $TMP/q.aug qUAl refine aspect_mean0 mean),$($T kv $TMP/q.aug qUAl refine area_ratio0 mean),$($T kv $TMP/fac.aug cOND arpack-lanczos cond sum),$(sumc $TMP/rh.csv pcg iters),$(sumc $TMP/rh.csv pcg iter),$(sumc $TMP/rh.csv pcg_ic iters),$(sumc $TMP/rh.csv pcg_ic iter),$(sumc $TMP/rh.csv refactor time_ms),$(sumc $TMP/rh.csv amps time_ms),$(fps pcg),$(fps pcg_ic),$(fps refactor),$(fps amps),$th,$(sumc $TMP/rh.csv pcg_icamd iters),$(sumc $TMP/rh.csv pcg_icamd iter),$(fps pcg_icamd)" >> $C52
+        echo "$pat,$v,$($T kv $TMP/q.aug qUAl refine intersected sum),$($T kv $TMP/q.aug qUAl refine aspect_mean0 mean),$($T kv $TMP/q.aug qUAl refine area_ratio0 mean),$($T kv $TMP/fac.aug cOND arpack-lanczos cond sum),$(sumc $TMP/rh.csv pcg iters),$(sumc $TMP/rh.csv pcg iter),$(sumc $TMP/rh.csv pcg_ic iters),$(sumc $TMP/rh.csv pcg_ic iter),$(sumc $TMP/rh.csv refactor time_ms),$(sumc $TMP/rh.csv amps time_ms),$(fps pcg),$(fps pcg_ic),$(fps refactor),$(fps amps),$th,$(sumc $TMP/rh.csv pcg_icamd iters),$(sumc $TMP/rh.csv pcg_icamd iter),$(fps pcg_icamd),$(sumc $TMP/rh.csv pcg_ic ic_factor),$(sumc $TMP/rh.csv pcg_icamd ic_factor)" >> $C52
         echo "t52 $pat $v done" >&2
         v=$((v + 1))
     done
@@ -154,31 +154,33 @@ fi
 
 # ---- per method of each part
 CM=$OUT/thesis_methods.csv
-echo "label,method,steps,n_max,iters_max,ms_max,cond_max,cond_k_max,err_chol_max,relres_max,all_converged" > $CM
+echo "label,method,steps,n_max,iters_max,ms_max,cond_max,cond_k_max,err_chol_max,relres_max,all_converged,cg_ms_max,ic_factor_ms_max" > $CM
 for f in $C54 $CK $CS; do
     [ -f $f ] || continue
     for l in $(awk -F, 'NR > 1 { print $1 }' $f | sort -u); do $T per_method $f $l >> $CM; done
 done
 column -s, -t < $CM
 
-if command -v gnuplot > /dev/null; then
-    gnuplot <<EOF
-set terminal pngcairo size 1600,1000 noenhanced
-set output "$OUT/thesis.png"
-set datafile separator ","
-set multiplot layout 2,3
+# thesis.png: the panels of the parts this run ran (PARTS), none left empty
+GP=$TMP/thesis.gp np=0
+: > $GP
+if part t52; then np=$((np + 2)); cat >> $GP <<EOF
 set title "tables 5.1-5.2: cond(K_t) per run"
 set logscale y; set xlabel "run (single, intersecting, flower, many)"; set ylabel "cond"
 plot "$C52" every ::1 using 0:6 with points pt 7 title "measured", "" every ::1 using 0:20 with points pt 4 title "thesis"
-set title "tables 5.1-5.2: CG ms per run"
+set title "tables 5.1-5.2: CG ms per run (IC(0) factorization apart)"
 set ylabel "ms"
-plot "$C52" every ::1 using 0:8 with points pt 7 title "pcg Jacobi", "" every ::1 using 0:10 with points pt 5 title "pcg IC(0)", \
-     "" every ::1 using 0:24 with points pt 13 title "pcg IC(0) AMD", \
+plot "$C52" every ::1 using 0:8 with points pt 7 title "pcg Jacobi", "" every ::1 using 0:10 with points pt 5 title "pcg IC(0) CG", \
+     "" every ::1 using 0:24 with points pt 13 title "pcg IC(0) AMD CG", \
+     "" every ::1 using 0:26 with points pt 1 title "IC(0) factorization", "" every ::1 using 0:27 with points pt 2 title "IC(0) AMD factorization", \
      "" every ::1 using 0:11 with points pt 9 title "refactor", "" every ::1 using 0:12 with points pt 11 title "amps", \
      "" every ::1 using 0:21 with points pt 4 title "thesis CG"
 unset logscale y
+EOF
+fi
+if part kiri; then np=$((np + 2)); cat >> $GP <<EOF
 set title "fig. 5.17: dimension of K_t per kirigami step"
-set xlabel "step"; set ylabel "n"
+unset logscale y; set xlabel "step"; set ylabel "n"
 plot "< grep '^kiri,[0-9]*,pcg,' $CK" using 2:4 with linespoints pt 7 title "K_t"
 set title "fig. 5.18: solver-bound frame rate 1000 / ms"
 set logscale y; set ylabel "frames / s"
@@ -187,8 +189,12 @@ plot "< grep '^kiri,[0-9]*,pcg,' $CK" using 2:(1000/\$16) with linespoints title
      "< grep '^kiri,[0-9]*,pcg_icamd,' $CK" using 2:(1000/\$16) with linespoints title "pcg IC(0) AMD", \
      "< grep '^kiri,[0-9]*,refactor,' $CK" using 2:(1000/\$16) with linespoints title "refactor", \
      "< grep '^kiri,[0-9]*,amps,' $CK" using 2:(1000/\$16) with linespoints title "amps", 30 dt 2 title "30 FPS"
+unset logscale y
+EOF
+fi
+if part kiri_s; then np=$((np + 2)); cat >> $GP <<EOF
 set title "small kirigami: error against CHOLMOD"
-set ylabel "||x - u|| / ||u||"
+set logscale y; set xlabel "step"; set ylabel "||x - u|| / ||u||"
 plot "< grep ',cgm-es,' $CS" using 2:12 with linespoints title "cgm-es", "< grep ',cgm-as,' $CS" using 2:12 with linespoints title "cgm-as", \
      "< grep ',cgm-log,' $CS" using 2:12 with linespoints title "cgm-log", "< grep ',cgm-cov,' $CS" using 2:12 with linespoints title "cgm-cov", \
      "< grep ',pcg,' $CS" using 2:(\$7 > 0 ? \$7 : 1e-16) with linespoints title "pcg relres"
@@ -197,7 +203,18 @@ unset logscale y; set style data histograms; set style histogram rowstacked; set
 set ylabel "ms"; set xlabel ""
 plot "< for m in cgm-es cgm-as; do awk -F, -v m=\$m '\$3 == m { c += \$18; d += \$19; n += \$20; r += \$21; g += \$22 } END { print m \",\" c \",\" d \",\" n \",\" r \",\" g }' $CS; done" \
      using 2:xtic(1) title "cov", "" using 3 title "decomp", "" using 4 title "normalise", "" using 5 title "recomp", "" using 6 title "cg"
-unset multiplot
 EOF
 fi
-echo "thesis.sh: wrote $C52 $C54 $CK $CS $CM $OUT/thesis.png"
+PNG=""
+if [ $np -gt 0 ] && command -v gnuplot > /dev/null; then
+    cols=$np; [ $np -gt 3 ] && cols=$(( np == 4 ? 2 : 3 )); rows=$(( (np + cols - 1) / cols ))
+    { echo "set terminal pngcairo size $((cols * 540)),$((rows * 500)) noenhanced"
+      echo "set output \"$OUT/thesis.png\""
+      echo 'set datafile separator ","'
+      echo "set multiplot layout $rows,$cols"
+      cat $GP
+      echo "unset multiplot"; } | gnuplot && PNG=" $OUT/thesis.png"
+elif [ $np -eq 0 ]; then
+    echo "thesis.sh: PARTS=\"$PARTS\" has no plotted part (t52, kiri, kiri_s): no thesis.png" >&2
+fi
+echo "thesis.sh: wrote $C52 $C54 $CK $CS $CM$PNG"

@@ -7,7 +7,8 @@
 #       runs 13-17") with the thesis's area-ratio gate 3% and no angle bound:
 #       intersected elements, new elements before (the cut's split) and after
 #       the subdivision, stiffness-update time (refine's UPDT build) and CG time
-#       (Jacobi pcg; amps next to it), cond(K) before and after (factor's ARPACK
+#       (Jacobi pcg; amps next to it; after the subdivision also IC(0) pcg: its
+#       CG ms and its factorization ms apart), cond(K) before and after (factor's ARPACK
 #       on the flattened mesh), mean aspect and area ratio of the step's
 #       elements, the lowest frame rate 1000 / (refine + solve ms) of the cut.
 #  scen (figs. 5.7-5.8): NCUT cuts of growing size in each of fig. 5.9's
@@ -49,12 +50,14 @@ cond() { $R flat "$1" $TMP/flat.aug && bin/factor $TMP/flat.aug > $TMP/fac.aug &
 # KEY of METHOD's step-1 row in solve-aug's stats --csv $1
 sc() { awk -F, -v m="$2" -v k="$3" 'NR == 1 { for (i = 1; i <= NF; i++) h[$i] = i; next }
        $1 == 1 && $2 == m { printf "%.6g", $(h[k]) }' "$1"; }
-solve() { bin/solve-aug "$1" --method pcg,amps --on-singular report > $TMP/s.aug 2> $TMP/s.err &&
-          bin/stats --csv < $TMP/s.aug > "$2" || { echo "thesis_acdm.sh: solve-aug: $(cat $TMP/s.err)" >&2; exit 1; }; }
+# solve STREAM CSV [ARGS]: solve-aug --method pcg,amps ARGS, its stats --csv
+solve() { st=$1 sc=$2; shift 2
+          bin/solve-aug "$st" --method pcg,amps --on-singular report "$@" > $TMP/s.aug 2> $TMP/s.err &&
+          bin/stats --csv < $TMP/s.aug > "$sc" || { echo "thesis_acdm.sh: solve-aug: $(cat $TMP/s.err)" >&2; exit 1; }; }
 
 # ---- figs. 5.2-5.5: flower punches at decreasing aspect bounds
 CF=$OUT/thesis_flower.csv
-echo "run,bound,intersected,new_before,new_after,aspect0,aspect,aspect_max,area0,area,cond_before,cond_after,update_ms,refine_ms,cg_iters_before,cg_ms_before,cg_iters,cg_ms,pcg_ms,amps_ms,fps_pcg_before,fps_pcg,fps_amps" > $CF
+echo "run,bound,intersected,new_before,new_after,aspect0,aspect,aspect_max,area0,area,cond_before,cond_after,update_ms,refine_ms,cg_iters_before,cg_ms_before,cg_iters,cg_ms,pcg_ms,amps_ms,fps_pcg_before,fps_pcg,fps_amps,cg_ic_iters,cg_ic_ms,ic_factor_ms" > $CF
 r=1
 while [ $r -le "$RUNS" ]; do
     b=$($T bound $r "$RUNS")
@@ -63,8 +66,9 @@ while [ $r -le "$RUNS" ]; do
     bin/refine --max-aspect "$b" --area-ratio 0.03 --min-angle 0 $TMP/c.aug > $TMP/r.aug || exit 1
     solve $TMP/c.aug $TMP/c.csv
     solve $TMP/r.aug $TMP/r.csv
+    solve $TMP/r.aug $TMP/ri.csv --pcg-prec ic
     rms=$(tm $TMP/r.aug time_ms) pms=$(sc $TMP/r.csv pcg time_ms) ams=$(sc $TMP/r.csv amps time_ms) pms0=$(sc $TMP/c.csv pcg time_ms)
-    echo "$r,$b,$(q $TMP/r.aug intersected),$(q $TMP/r.aug cut_elems),$(q $TMP/r.aug elems_added),$(q $TMP/r.aug aspect_mean0 mean),$(q $TMP/r.aug aspect_mean mean),$(q $TMP/r.aug aspect_max max),$(q $TMP/r.aug area_ratio0 mean),$(q $TMP/r.aug area_ratio mean),$(cond $TMP/c.aug),$(cond $TMP/r.aug),$(tm $TMP/r.aug update_ms),$rms,$(sc $TMP/c.csv pcg iters),$(sc $TMP/c.csv pcg iter),$(sc $TMP/r.csv pcg iters),$(sc $TMP/r.csv pcg iter),$pms,$ams,$(awk -v a=$pms0 'BEGIN { printf "%.2f", 1000 / a }'),$(awk -v a=$rms -v b=$pms 'BEGIN { printf "%.2f", 1000 / (a + b) }'),$(awk -v a=$rms -v b=$ams 'BEGIN { printf "%.2f", 1000 / (a + b) }')" >> $CF
+    echo "$r,$b,$(q $TMP/r.aug intersected),$(q $TMP/r.aug cut_elems),$(q $TMP/r.aug elems_added),$(q $TMP/r.aug aspect_mean0 mean),$(q $TMP/r.aug aspect_mean mean),$(q $TMP/r.aug aspect_max max),$(q $TMP/r.aug area_ratio0 mean),$(q $TMP/r.aug area_ratio mean),$(cond $TMP/c.aug),$(cond $TMP/r.aug),$(tm $TMP/r.aug update_ms),$rms,$(sc $TMP/c.csv pcg iters),$(sc $TMP/c.csv pcg iter),$(sc $TMP/r.csv pcg iters),$(sc $TMP/r.csv pcg iter),$pms,$ams,$(awk -v a=$pms0 'BEGIN { printf "%.2f", 1000 / a }'),$(awk -v a=$rms -v b=$pms 'BEGIN { printf "%.2f", 1000 / (a + b) }'),$(awk -v a=$rms -v b=$ams 'BEGIN { printf "%.2f", 1000 / (a + b) }'),$(sc $TMP/ri.csv pcg iters),$(sc $TMP/ri.csv pcg iter),$(sc $TMP/ri.csv pcg ic_factor)" >> $CF
     echo "flower run $r (bound $b) done" >&2
     r=$((r + 1))
 done

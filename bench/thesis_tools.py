@@ -7,7 +7,8 @@
   thesis_tools.py steps LABEL STATS_CSV   one CSV row per (step, method) of a
         solve-aug run (stats --csv), the columns of STEP_COLS
   thesis_tools.py per_method STEPS_CSV LABEL   one row per method of LABEL's
-        steps: n (max), iterations (max), time (max ms), cond (max), error (max)
+        steps: n (max), iterations (max), time (max ms), cond (max), error (max),
+        pcg's CG and IC(0) factorization times (max ms)
   thesis_tools.py scenario KIND I FILE   cut I (1..) of fig. 5.9's scenarios,
         growing with I: single (one cubic Bezier of length 0.25 + 0.1 I),
         intersecting (two crossing cubics of that length), multiple (four
@@ -32,7 +33,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import aug_kv  # noqa: E402
 
 STEP_COLS = ["n", "iters", "converged", "relres", "relres_t", "cond", "cond_k", "spd", "err_chol", "err_scaled",
-             "ns_iters", "ic_shift", "time_ms", "iter", "cov", "decomp", "normalise", "recomp", "cg", "diag"]
+             "ns_iters", "ic_shift", "time_ms", "iter", "cov", "decomp", "normalise", "recomp", "cg", "diag",
+             "ic_factor"]
 
 
 def kirigami(out):
@@ -209,7 +211,7 @@ def per_method(path, label):
             v = [float(r[k]) for r in rs if r.get(k) not in (None, "", "nan")]
             return "%.4g" % max(v) if v else ""
         out.writerow([label, m, len(rs), mx("n"), mx("iters"), mx("time_ms"), mx("cond"), mx("cond_k"), mx("err_chol"),
-                      mx("relres"), min(int(float(r["converged"] or 0)) for r in rs)])
+                      mx("relres"), min(int(float(r["converged"] or 0)) for r in rs), mx("iter"), mx("ic_factor")])
 
 
 def main():

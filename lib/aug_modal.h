@@ -29,6 +29,7 @@ typedef struct aug_isvd {
     /* what the last aug_isvd_add did (for the Galerkin projections) */
     int grew;           /* 1 when U0 gained column q-1 */
     int compacted;      /* 1 when U0 <- U0 Pc first (Pc = the old Up, qold x rold) */
+    int unit_up;        /* 1 when Up = I (q = r): the deferred rotation is trivial */
     int qold, rold;
     double *Pc;         /* qcap x (rmax + 1), leading dimension qcap */
     double ratio;       /* sum S before / sum S after the add (eq. 12's switch test) */
@@ -41,15 +42,21 @@ typedef struct aug_isvd {
    (qcap = 0: 2 rmax + 2). AUG_EUSAGE / AUG_ENOMEM. */
 int aug_isvd_init(aug_isvd *s, int64_t n, int rmax, int qcap, double rtol, aug_err *e);
 void aug_isvd_free(aug_isvd *s);
+/* The state whose basis is W = I_n: U0 = I, Up = I, S = 1, rank n (what n
+   unit snapshots give, set in O(n^2) instead of n adds at O(n^2 + r^3) each;
+   modal --basis identity). AUG_EUSAGE / AUG_ENOMEM. */
+int aug_isvd_identity(aug_isvd *s, int64_t n, aug_err *e);
 /* Add snapshot u (length n): Brand's rank-one column update of the thin SVD,
    truncated to rmax and rtol. Cost O(n q + q r^2 + r^3), plus O(n q r) when
    q reaches qcap (amortised O(n r) per snapshot with qcap = 2 rmax + 2). */
 int aug_isvd_add(aug_isvd *s, const double *u, aug_err *e);
 /* U0 <- U0 Up, Up <- I (eq. 9's deferred rotation; O(n q r)); sets compacted,
-   Pc, qold, rold like an add does (grew = 0). */
+   Pc, qold, rold like an add does (grew = 0). Nothing (compacted = 0) when Up
+   is already I. */
 int aug_isvd_compact(aug_isvd *s, aug_err *e);
 /* The basis U = U0 Up explicitly (n x r into Uout, leading dimension n):
-   O(n q r); for tests and for the records that write the modes. */
+   O(n q r), O(n r) when Up = I; for tests and for the records that write the
+   modes. */
 void aug_isvd_basis(const aug_isvd *s, double *Uout);
 
 /* Relative projection error ||u - U (U'u)|| / ||u|| with U = U0 Up (paper 004
@@ -81,13 +88,17 @@ typedef struct aug_galerkin {
    re-wired sub-domain). A: n x n, stype != 0. */
 int aug_galerkin_init(aug_galerkin *g, const aug_isvd *s, cholmod_sparse *A, cholmod_common *cm,
                       aug_err *e);
+/* G = A densely for the state of aug_isvd_identity (U0 = I): O(n^2 + nnz),
+   not n sparse products and O(n^3). */
+int aug_galerkin_identity(aug_galerkin *g, const aug_isvd *s, const cholmod_sparse *A, aug_err *e);
 void aug_galerkin_free(aug_galerkin *g);
 /* Follow the last aug_isvd_add / aug_isvd_compact of s: on compaction
    G <- Pc' G Pc (O(q^2 r)); on growth, w = U0(:, q-1), G gains the row and
    column U0' (A w) (one sparse product and O(n q): O(nnz + n q)). */
 int aug_galerkin_sync(aug_galerkin *g, const aug_isvd *s, cholmod_sparse *A,
                       cholmod_common *cm, aug_err *e);
-/* A_r = Up' G Up (r x r, leading dimension r): O(q^2 r + q r^2). */
+/* A_r = Up' G Up (r x r, leading dimension r): O(q^2 r + q r^2), O(r^2) when
+   Up = I. */
 void aug_galerkin_reduced(aug_galerkin *g, const aug_isvd *s, double *Ar);
 
 /* A basis W = U0 Up of one sub-domain (n x q times q x r; Up == NULL: the

@@ -418,12 +418,14 @@ int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int
 /* The same with preconditioner prec: none (M = I), Jacobi (M = diag(K)) or IC
    (M = R'R, IC(0) of K, ichol.c); *shift (may be NULL): the IC diagonal shift
    used. AUG_PCG_IC_AMD: IC(0) of P'KP, P the AMD ordering of K's pattern
-   (ichol_amd.c), M = P R'R P'. Returns iterations, -1 out of memory or no
-   IC(0) exists. */
+   (ichol_amd.c), M = P R'R P'. *prec_ms (may be NULL): the wall-clock time
+   of building M (the IC(0) factorization with its shifts and ordering; 0
+   for none and Jacobi). Returns iterations, -1 out of memory or no IC(0)
+   exists. */
 enum { AUG_PCG_NONE, AUG_PCG_JACOBI, AUG_PCG_IC, AUG_PCG_IC_AMD };
 int aug_pcg_prec(const cholmod_sparse *K, const double *f, double *x, int prec, double tol,
                  int maxit, int *converged, int *breakdown, double *relres, double *shift,
-                 cholmod_common *cm);
+                 double *prec_ms, cholmod_common *cm);
 
 /* ichol.c: IC(0) R'R ~ K + shift diag(K), R upper with the pattern of K's
    upper triangle, the smallest shift of 0, 1e-3, 2e-3, ... without breakdown

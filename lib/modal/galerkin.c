@@ -22,10 +22,8 @@ static int grow(aug_galerkin *g, const aug_isvd *s, int j, cholmod_sparse *A, ch
     return 0;
 }
 
-/* G = U0' A U0 for s's current U0 (q sparse products: the start and a
-   re-wired sub-domain, not the frame-by-frame path) */
-int aug_galerkin_init(aug_galerkin *g, const aug_isvd *s, cholmod_sparse *A, cholmod_common *cm,
-                      aug_err *e)
+/* room for G (qcap x qcap) and the work arrays, after checking A */
+static int alloc(aug_galerkin *g, const aug_isvd *s, const cholmod_sparse *A, aug_err *e)
 {
     aug_err_clear(e);
     memset(g, 0, sizeof *g);
@@ -40,8 +38,40 @@ int aug_galerkin_init(aug_galerkin *g, const aug_isvd *s, cholmod_sparse *A, cho
         aug_galerkin_free(g);
         return aug_err_set(e, AUG_ENOMEM, -1, "", "galerkin: out of memory (qcap %d)", s->qcap);
     }
+    return 0;
+}
+
+/* G = U0' A U0 for s's current U0 (q sparse products: the start and a
+   re-wired sub-domain, not the frame-by-frame path) */
+int aug_galerkin_init(aug_galerkin *g, const aug_isvd *s, cholmod_sparse *A, cholmod_common *cm,
+                      aug_err *e)
+{
+    if (alloc(g, s, A, e)) return e->code;
     for (int j = 0; j < s->q; j++)
         if (grow(g, s, j, A, cm, e)) return e->code;
+    return 0;
+}
+
+/* U0 = I: G = A, its stored triangle added to both (duplicates summed) */
+int aug_galerkin_identity(aug_galerkin *g, const aug_isvd *s, const cholmod_sparse *A, aug_err *e)
+{
+    if (!s->unit_up || s->q != s->n) {
+        memset(g, 0, sizeof *g);
+        return aug_err_set(e, AUG_EUSAGE, -1, "", "galerkin: the basis of %d columns is not I_%lld", s->q,
+                           (long long)s->n);
+    }
+    if (alloc(g, s, A, e)) return e->code;
+    const int32_t *Ap = A->p, *Ai = A->i;
+    const double *Ax = A->x;
+    size_t ld = (size_t)g->qcap;
+    for (int64_t j = 0; j < s->n; j++)
+        for (int32_t k = Ap[j]; k < Ap[j + 1]; k++) {
+            int64_t i = Ai[k];
+            if ((A->stype > 0 && i > j) || (A->stype < 0 && i < j)) continue;
+            g->G[i + j * ld] += Ax[k];
+            if (i != j) g->G[j + i * ld] += Ax[k];
+        }
+    g->q = s->q;
     return 0;
 }
 
@@ -74,11 +104,15 @@ int aug_galerkin_sync(aug_galerkin *g, const aug_isvd *s, cholmod_sparse *A, cho
     return s->grew ? grow(g, s, s->q - 1, A, cm, e) : 0;
 }
 
-/* Ar = Up' (G Up) */
+/* Ar = Up' (G Up) (G itself when Up = I) */
 void aug_galerkin_reduced(aug_galerkin *g, const aug_isvd *s, double *Ar)
 {
     int ld = g->qcap, q = s->q, r = s->r;
     if (r == 0) return;
+    if (s->unit_up) {
+        for (int j = 0; j < r; j++) memcpy(Ar + (size_t)j * r, g->G + (size_t)j * ld, (size_t)r * sizeof *Ar);
+        return;
+    }
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, q, r, q, 1.0, g->G, ld, s->Up, ld, 0.0, g->work, ld);
     cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, r, q, 1.0, s->Up, ld, g->work, ld, 0.0, Ar, r);
 }

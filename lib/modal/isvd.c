@@ -2,6 +2,7 @@
    U = U0 Up (paper 004 eqs. 4-11; Brand, LAA 415 (2006) 20-30). */
 #include <cblas.h>
 #include <lapacke.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,6 +61,24 @@ int aug_isvd_init(aug_isvd *s, int64_t n, int rmax, int qcap, double rtol, aug_e
     return 0;
 }
 
+/* the thin SVD of X = I_n: U = I, S = 1 (U0 = I, Up = I) */
+int aug_isvd_identity(aug_isvd *s, int64_t n, aug_err *e)
+{
+    if (n > INT_MAX - 1)
+        return aug_err_set(e, AUG_EUSAGE, -1, "", "isvd: an identity basis of %lld columns", (long long)n);
+    if (aug_isvd_init(s, n, (int)n, (int)n + 1, 0, e)) return e->code;
+    memset(s->U0, 0, (size_t)n * n * sizeof *s->U0);
+    for (int64_t j = 0; j < n; j++) {
+        s->U0[j + (size_t)j * n] = 1;
+        s->Up[j + (size_t)j * s->qcap] = 1;
+        s->S[j] = 1;
+    }
+    s->q = s->r = (int)n;
+    s->nsnap = n;
+    s->unit_up = 1;
+    return 0;
+}
+
 void aug_isvd_free(aug_isvd *s)
 {
     free(s->U0);
@@ -70,9 +89,11 @@ void aug_isvd_free(aug_isvd *s)
     memset(s, 0, sizeof *s);
 }
 
-/* U0 <- U0 Up row block by row block (in place, O(n q r)); Pc = old Up */
+/* U0 <- U0 Up row block by row block (in place, O(n q r)); Pc = old Up;
+   nothing when Up = I */
 static void compact(aug_isvd *s)
 {
+    if (s->unit_up) return;
     wk w = split(s);
     int q = s->q, r = s->r, ld = s->qcap;
     int64_t n = s->n;
@@ -88,6 +109,7 @@ static void compact(aug_isvd *s)
     for (int j = 0; j < r; j++) s->Up[j + (size_t)j * ld] = 1;
     s->q = r;
     s->compacted = 1;
+    s->unit_up = 1;
 }
 
 /* eq. 9's deferred rotation on request */
@@ -117,6 +139,7 @@ int aug_isvd_add(aug_isvd *s, const double *u, aug_err *e)
         if (!isfinite(u[i])) return aug_err_set(e, AUG_EDATA, -1, "", "isvd: snapshot %lld entry %lld not finite",
                                                 (long long)s->nsnap, (long long)i);
     if (s->q == s->qcap) compact(s);
+    s->unit_up = 0;
     wk w = split(s);
     int q = s->q, r = s->r, ld = s->qcap;
     double unorm = cblas_dnrm2((int)n, u, 1);
@@ -186,6 +209,10 @@ int aug_isvd_add(aug_isvd *s, const double *u, aug_err *e)
 void aug_isvd_basis(const aug_isvd *s, double *Uout)
 {
     if (s->r == 0) return;
+    if (s->unit_up) {
+        memcpy(Uout, s->U0, (size_t)s->n * s->r * sizeof *Uout);
+        return;
+    }
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)s->n, s->r, s->q, 1.0, s->U0, (int)s->n, s->Up,
                 s->qcap, 0.0, Uout, (int)s->n);
 }

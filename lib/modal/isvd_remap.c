@@ -50,6 +50,7 @@ int aug_isvd_remap(aug_isvd *s, int64_t n, const int32_t *src, aug_err *e)
         cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)n, k, r, 1.0, B, (int)n, U2, r, 0.0, t.U0, (int)n);
     for (int j = 0; j < k; j++) t.S[j] = sv[j], t.Up[j + (size_t)j * t.qcap] = 1;
     t.q = t.r = k;
+    t.unit_up = 1;
     aug_isvd_free(s);
     *s = t;
 done:

@@ -148,13 +148,24 @@ static int mark_iface(aug_msim *s, aug_err *e)
     return 0;
 }
 
+/* a reducible domain's empty snapshot basis, or with --basis identity
+   W = I over its free DOFs (aug_isvd_identity, G_K = K, G_M = M: O(n^2)) */
 static int basis_start(aug_msim *s, aug_mdomain *d, aug_err *e)
 {
     if (!may_reduce(s, d->id) || d->nf == 0) return 0;
-    int cap = s->o.basis == AUG_BASIS_IDENTITY ? (int)d->nf : s->o.rank;
-    if (cap > d->nf) cap = (int)d->nf;
-    if (aug_isvd_init(&d->svd, d->nf, cap, 0, s->o.basis == AUG_BASIS_IDENTITY ? 0 : s->o.svd_tol, e))
-        return e->code;
+    if (s->o.basis == AUG_BASIS_IDENTITY) {
+        if (d->nf > 3000)
+            return aug_err_set(e, AUG_EUSAGE, -1, "MODE",
+                               "--basis identity: domain %d has %lld free DOFs (at most 3000)", d->id,
+                               (long long)d->nf);
+        if (aug_isvd_identity(&d->svd, d->nf, e)) return e->code;
+        d->have_svd = 1;
+        if (aug_galerkin_identity(&d->gK, &d->svd, d->K, e) || aug_galerkin_identity(&d->gM, &d->svd, d->M, e))
+            return e->code;
+        return 0;
+    }
+    int cap = s->o.rank < d->nf ? s->o.rank : (int)d->nf;
+    if (aug_isvd_init(&d->svd, d->nf, cap, 0, s->o.svd_tol, e)) return e->code;
     d->have_svd = 1;
     if (aug_galerkin_init(&d->gK, &d->svd, d->K, s->cm, e) || aug_galerkin_init(&d->gM, &d->svd, d->M, s->cm, e))
         return e->code;
@@ -166,23 +177,6 @@ static int add_snapshot(aug_msim *s, aug_mdomain *d, const double *x, aug_err *e
     if (aug_isvd_add(&d->svd, x, e)) return e->code;
     if (aug_galerkin_sync(&d->gK, &d->svd, d->K, s->cm, e)) return e->code;
     return aug_galerkin_sync(&d->gM, &d->svd, d->M, s->cm, e);
-}
-
-/* W = I: the unit snapshots, then the switch (a check of the machinery:
-   the reduced domain must reproduce FE exactly) */
-static int identity_basis(aug_msim *s, aug_mdomain *d, aug_err *e)
-{
-    if (!d->have_svd) return 0;
-    if (d->nf > 3000)
-        return aug_err_set(e, AUG_EUSAGE, -1, "MODE", "--basis identity: domain %d has %lld free DOFs (at most 3000)",
-                           d->id, (long long)d->nf);
-    for (int64_t i = 0; i < d->nf; i++) {
-        memset(d->tmp, 0, (size_t)d->nf * sizeof *d->tmp);
-        d->tmp[i] = 1;
-        if (add_snapshot(s, d, d->tmp, e)) return e->code;
-    }
-    d->err_switch = 0;
-    return aug_mdomain_reduce(d, &s->p, 1000000000L, s->cm, e);
 }
 
 static int partition(aug_msim *s, const aug_mesh *m, aug_err *e)
@@ -250,9 +244,10 @@ int aug_msim_init(aug_msim *s, const aug_msim_opts *o, const aug_dynp *p, const 
     }
     locate_owners(s);
     if (rows(s, e)) return e->code;
-    if (o->basis == AUG_BASIS_IDENTITY)
-        for (int di = 0; di < s->nd; di++)
-            if (identity_basis(s, &s->d[di], e)) return e->code;
+    /* W = I: every reducible domain reduced from the start (a check of the
+       machinery: it must reproduce FE exactly) */
+    for (int di = 0; di < s->nd && o->basis == AUG_BASIS_IDENTITY; di++)
+        if (s->d[di].have_svd && aug_mdomain_reduce(&s->d[di], &s->p, 1000000000L, cm, e)) return e->code;
     if (aug_direct_new(&s->dir, e)) return e->code;
     s->dirty = 1;
     return 0;
@@ -408,6 +403,11 @@ static int switching(aug_msim *s, aug_mdomain *d, aug_err *e)
     }
     d->ready = 0;
     if (!d->have_svd) return 0;
+    if (s->o.basis == AUG_BASIS_IDENTITY) { /* W = I spans every state: no snapshot, back at once */
+        d->last_err = 0, d->last_est = NAN, d->last_drift = 0, d->last_ratio = 1;
+        d->ready = 1, d->ready_budget = 1000000000L;
+        return 0;
+    }
     int64_t need = d->nf + 2 * (int64_t)d->svd.qcap + d->svd.rmax + 1;
     if (need > s->pwcap) {
         free(s->pwork);
@@ -593,7 +593,9 @@ static int rewire(aug_msim *s, int di, const aug_mesh *m, int64_t nn_old, const 
         }
     }
     int rc = 0;
-    if (old.have_svd && d->nf > 0) {
+    if (old.have_svd && d->nf > 0 && s->o.basis == AUG_BASIS_IDENTITY) {
+        rc = basis_start(s, d, e); /* W = I over the new free DOFs, not the old I padded */
+    } else if (old.have_svd && d->nf > 0) {
         d->svd = old.svd, d->have_svd = 1;
         old.have_svd = 0;
         aug_galerkin_free(&old.gK), aug_galerkin_free(&old.gM);

@@ -44,21 +44,25 @@ static void prec_apply(const aug_ichol *R, const double *dinv, const double *r, 
    iterates while the recursive ||r|| > tol ||f|| (||f|| := 1 when f = 0),
    restarting from the true residual when it has drifted (at most 5 passes);
    breakdown when p'Kp <= 0. relres = true ||f - K x|| / ||f||; converged: no
-   breakdown and relres <= tol. Returns the iterations of all passes, -1
-   memory or no IC(0). */
+   breakdown and relres <= tol; *prec_ms the time of the IC(0) factorization.
+   Returns the iterations of all passes, -1 memory or no IC(0). */
 int aug_pcg_prec(const cholmod_sparse *K, const double *f, double *x, int prec, double tol,
                  int maxit, int *converged, int *breakdown, double *relres, double *shift,
-                 cholmod_common *cm)
+                 double *prec_ms, cholmod_common *cm)
 {
     int64_t n = (int64_t)K->ncol;
     double *w = aug_malloc((size_t)(5 * n + 1) * sizeof *w);
     aug_ichol ic, *R = NULL;
     *converged = 0, *breakdown = 0, *relres = NAN;
     if (shift) *shift = 0;
+    if (prec_ms) *prec_ms = 0;
     if (!w) return -1;
     double *r = w, *z = w + n, *p = w + 2 * n, *q = w + 3 * n, *dinv = prec == AUG_PCG_JACOBI ? w + 4 * n : NULL;
     if (prec == AUG_PCG_IC || prec == AUG_PCG_IC_AMD) {
-        if (prec == AUG_PCG_IC ? aug_ichol_factor(K, &ic) : aug_ichol_factor_amd(K, &ic, cm)) {
+        double t0 = aug_now();
+        int bad = prec == AUG_PCG_IC ? aug_ichol_factor(K, &ic) : aug_ichol_factor_amd(K, &ic, cm);
+        if (prec_ms) *prec_ms = 1e3 * (aug_now() - t0);
+        if (bad) {
             if (ic.p) aug_ichol_free(&ic);
             free(w);
             return -1;
@@ -129,5 +133,5 @@ int aug_pcg_prec(const cholmod_sparse *K, const double *f, double *x, int prec, 
 int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int maxit,
             int *converged, int *breakdown, double *relres, cholmod_common *cm)
 {
-    return aug_pcg_prec(K, f, x, AUG_PCG_JACOBI, tol, maxit, converged, breakdown, relres, NULL, cm);
+    return aug_pcg_prec(K, f, x, AUG_PCG_JACOBI, tol, maxit, converged, breakdown, relres, NULL, NULL, cm);
 }

@@ -470,8 +470,9 @@ static void rowupdate_stats(const aug_solver *s, const step_res *r, aug_kv *st, 
     if (r->ran) put(tm, "update", r->t[0]), put(tm, "solve", r->t[1]);
 }
 
-/* Jacobi PCG on K_t assembled, warm-started from the previous step's x
-   (new DOFs 0, the first step from the base solution) */
+/* PCG on K_t assembled, warm-started from the previous step's x (new DOFs
+   0, the first step from the base solution); times: assembly, the CG
+   iterations, the IC(0) factorization */
 static int pcg_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
     (void)q;
@@ -489,13 +490,13 @@ static int pcg_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
     if (s->pcg_n == 0) memcpy(xp, s->base->a, (size_t)s->base->n * sizeof *xp), s->pcg_n = s->base->n;
     for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0;
     s->pcg_n = n;
-    double rr;
+    double rr, tic;
     r->iters = aug_pcg_prec(K, s->f, xp, s->o.pcg_prec, s->o.tol, s->o.maxit, &r->conv, &r->sing, &rr,
-                            &s->pcg_shift, s->cm);
+                            &s->pcg_shift, &tic, s->cm);
     cholmod_free_sparse(&K, s->cm);
     if (r->iters < 0) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "pcg: out of memory or no IC(0)");
     memcpy(r->x, xp, (size_t)n * sizeof *r->x);
-    r->t[0] = tb - ta, r->t[1] = 1e3 * aug_now() - tb;
+    r->t[0] = tb - ta, r->t[2] = tic, r->t[1] = 1e3 * aug_now() - tb - tic;
     return 0;
 }
 
@@ -517,6 +518,7 @@ static void pcg_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv
     put(st, "prec", s->o.pcg_prec);
     if (s->o.pcg_prec == AUG_PCG_IC || s->o.pcg_prec == AUG_PCG_IC_AMD) put(st, "ic_shift", s->pcg_shift);
     if (r->ran) put(tm, "assemble", r->t[0]), put(tm, "iter", r->t[1]);
+    if (r->ran && (s->o.pcg_prec == AUG_PCG_IC || s->o.pcg_prec == AUG_PCG_IC_AMD)) put(tm, "ic_factor", r->t[2]);
 }
 
 /* the thesis 003 sec. 3.5 transforms (cgm_solve.c): T of K_t assembled, CG on
@@ -915,10 +917,12 @@ static int frame_method(aug_solver *s, int m, const double *b, int32_t frame, au
         s->pcg_x = xp;
         for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0;
         s->pcg_n = n;
+        double tic;
         iters = aug_pcg_prec(s->pcg_K, b, xp, s->o.pcg_prec, s->o.tol, s->o.maxit, &conv, &sing, &rr,
-                             &s->pcg_shift, s->cm);
+                             &s->pcg_shift, &tic, s->cm);
         if (iters < 0) return aug_err_set(e, AUG_ENOMEM, -1, "fRAM", "pcg: out of memory or no IC(0)");
         memcpy(x, xp, (size_t)n * sizeof *x);
+        if (s->o.pcg_prec == AUG_PCG_IC || s->o.pcg_prec == AUG_PCG_IC_AMD) put(tm, "ic_factor", tic);
     } else if (!sing) {
         if ((rc = op->solve(s, b, x, e))) return rc;
         if (m == AUG_M_GMRES) iters = aug_gmres_iters(s->gm), conv = aug_gmres_converged(s->gm);

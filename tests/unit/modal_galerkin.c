@@ -105,10 +105,72 @@ static void kept_up_to_date(void)
     free(Kd), free(X), free(Kr);
 }
 
+/* W = I set directly (aug_isvd_identity, aug_galerkin_identity: O(n^2))
+   equals the route of n unit snapshots and a Galerkin state grown column by
+   column: the same basis I, K_r = K; compaction changes nothing; a later
+   snapshot (inside the span) keeps the rank and the projection in step */
+static void identity_direct(void)
+{
+    int64_t n = 60;
+    double *Kd = malloc((size_t)n * n * sizeof *Kd);
+    cholmod_sparse *K = sparse_spd(n, Kd);
+    aug_isvd s, t;
+    aug_galerkin g, g2, gt;
+    aug_err e;
+    T_CHECK(aug_isvd_identity(&s, n, &e) == 0, "identity: %s", e.msg);
+    T_CHECK(aug_galerkin_identity(&g, &s, K, &e) == 0, "galerkin identity: %s", e.msg);
+    T_CHECK(aug_galerkin_init(&g2, &s, K, &cm, &e) == 0, "galerkin init: %s", e.msg);
+    aug_isvd_init(&t, n, (int)n, 0, 0, &e);
+    aug_galerkin_init(&gt, &t, K, &cm, &e);
+    double *x = calloc((size_t)n, sizeof *x);
+    for (int64_t i = 0; i < n; i++) {
+        memset(x, 0, (size_t)n * sizeof *x);
+        x[i] = 1;
+        T_CHECK(aug_isvd_add(&t, x, &e) == 0 && aug_galerkin_sync(&gt, &t, K, &cm, &e) == 0, "unit add %lld: %s",
+                (long long)i, e.msg);
+    }
+    T_CHECK(s.r == n && t.r == n, "ranks %d, %d of %lld", s.r, t.r, (long long)n);
+    double *U = malloc((size_t)n * n * sizeof *U), *V = malloc((size_t)n * n * sizeof *V);
+    double *Kr = malloc((size_t)n * n * sizeof *Kr), *Kr2 = malloc((size_t)n * n * sizeof *Kr2);
+    aug_isvd_basis(&s, U);
+    aug_isvd_basis(&t, V);
+    /* U = I exactly; V V' = I (the unit snapshots' basis is I up to rotation) */
+    double du = 0, dv = 0;
+    for (int64_t i = 0; i < n; i++)
+        for (int64_t j = 0; j < n; j++) {
+            double vv = 0;
+            for (int64_t k = 0; k < n; k++) vv += V[i + k * n] * V[j + k * n];
+            du = fmax(du, fabs(U[i + j * n] - (i == j))), dv = fmax(dv, fabs(vv - (i == j)));
+        }
+    T_CHECK(du == 0 && dv <= 1e-13, "I: %.2e, unit snapshots V V' - I: %.2e", du, dv);
+    aug_galerkin_reduced(&g, &s, Kr);
+    aug_galerkin_reduced(&g2, &s, Kr2);
+    double dk = 0;
+    for (size_t i = 0; i < (size_t)n * n; i++) dk = fmax(dk, fabs(Kr[i] - Kd[i])), dk = fmax(dk, fabs(Kr2[i] - Kd[i]));
+    T_CHECK(dk <= 1e-14 * 9, "K_r - K: %.2e", dk);
+    aug_galerkin_reduced(&gt, &t, Kr);
+    compare(&t, Kd, Kr, -2);
+    T_CHECK(aug_isvd_compact(&s, &e) == 0 && !s.compacted && aug_galerkin_sync(&g, &s, K, &cm, &e) == 0,
+            "compact of W = I: compacted %d", s.compacted);
+    for (int64_t i = 0; i < n; i++) x[i] = g_normal();
+    T_CHECK(aug_isvd_add(&s, x, &e) == 0 && aug_galerkin_sync(&g, &s, K, &cm, &e) == 0, "add to I: %s", e.msg);
+    T_CHECK(s.r == n && !s.grew && !s.unit_up, "after an add: rank %d, grew %d, unit_up %d", s.r, s.grew, s.unit_up);
+    aug_galerkin_reduced(&g, &s, Kr);
+    compare(&s, Kd, Kr, -3);
+    /* a Galerkin state of W = I is refused for another basis */
+    aug_galerkin g3;
+    T_CHECK(aug_galerkin_identity(&g3, &t, K, &e) == AUG_EUSAGE, "identity Galerkin of a rotated basis accepted");
+    aug_galerkin_free(&g), aug_galerkin_free(&g2), aug_galerkin_free(&gt);
+    aug_isvd_free(&s), aug_isvd_free(&t);
+    cholmod_free_sparse(&K, &cm);
+    free(Kd), free(x), free(U), free(V), free(Kr), free(Kr2);
+}
+
 int main(void)
 {
     aug_cholmod_start(&cm);
     T_RUN(kept_up_to_date);
+    T_RUN(identity_direct);
     printf("measured: Galerkin vs from-scratch rel %.2e\n", worst);
     cholmod_finish(&cm);
     T_EXIT();
