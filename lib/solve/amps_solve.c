@@ -488,7 +488,11 @@ int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
     const aug_schur *s = &a->schur;
     double *xa = a->x, *wp = a->w, *z = a->t2, *y = a->y;
     for (int64_t k = 0; k < b->n; k++) z[k] = r[b->perm[k]];
-    if (b->Ls) {
+    if (a->par && b->Ls && b->par_plan) { /* Ls^-1 P r on two cores, then D^-1/2 */
+        if (aug_par_super_solve(a->par, b->par_plan, b->Ls, AUG_PAR_L, z))
+            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+        for (int64_t k = 0; k < b->n; k++) z[k] /= b->sqrtd[k];
+    } else if (b->Ls) {
         cholmod_dense B = {0};
         B.nrow = B.d = B.nzmax = (size_t)b->n, B.ncol = 1;
         B.x = z, B.xtype = CHOLMOD_REAL, B.dtype = CHOLMOD_DOUBLE;
