@@ -30,7 +30,9 @@ double *aug_par_buf(aug_par *p, int k, size_t n);
 /* The supernodes of Ls in three sets: top (the supernodes above the split,
    the ancestors of everything else) and two bins of whole subtrees, no
    supernode of one bin an ancestor or descendant of one of the other. Each
-   list is in increasing supernode order. w*: entries of Ls each set reads. */
+   list is in increasing supernode order. w*: entries of Ls each set reads.
+   The solves hand the subtrees out as tasks, not as the fixed bins: a
+   thread the system does not schedule then leaves its share to the other. */
 typedef struct aug_par_plan {
     int64_t nsuper;
     int32_t ntop, nbin[2];
@@ -44,6 +46,12 @@ typedef struct aug_par_plan {
     int64_t ndefer;
     int64_t tmpmax;      /* max rows below the diagonal block of a supernode */
     double wtop, wbin[2];
+    /* the tasks the threads take in turn (par_solve.c): the subtrees below
+       top, heaviest first; task k is task_s[task_p[k] .. task_p[k+1]),
+       ascending. bin[] is the static two-way estimate the split minimizes. */
+    int32_t ntask;
+    int64_t *task_p;
+    int32_t *task_s;
 } aug_par_plan;
 
 /* The split that minimizes wtop + max(wbin) by expanding the heaviest
@@ -57,7 +65,9 @@ void aug_par_plan_free(aug_par_plan *pl);
 enum { AUG_PAR_L = 0, AUG_PAR_LT = 1 };
 /* x := Ls^-1 x (AUG_PAR_L) or Ls^-T x (AUG_PAR_LT), supernode by supernode
    as cholmod_super_lsolve / ltsolve do for one right-hand side; with p (and a
-   plan) the two bins on two threads, bitwise the same result. p or pl NULL:
+   plan) the subtrees below top on the pool's threads, bitwise the same
+   result for Ls' (for Ls, updates of top rows from below are summed in
+   another order: equal to rounding). p or pl NULL:
    on the caller alone. 0, or -1 when out of memory (x unchanged). */
 int aug_par_super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor *Ls, int sys,
                         double *x);

@@ -4,6 +4,7 @@
    serial one. Paper 001 sec. 3.6 parallelizes AMPS steps 1-4 and leaves the
    final back-substitution (step 6, ~80% of a brain step by its fig. 8, the
    c |L| of eq. 3.34) serial; this is its two-core form (issue 15 item 4). */
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <cblas.h>
 #include "aug_par.h"
@@ -26,7 +27,7 @@ static void lt_super(const cholmod_factor *L, int32_t s, double *x, double *e)
 }
 
 /* x1 := L1^-1 x1, x(rows) := x(rows) - L2 x1: supernode s of L x = b. The
-   rows from i0 on (in top, shared by both bins) are not touched: their
+   rows from i0 on (in top, shared by all tasks) are not touched: their
    update 0 - L2 x1 goes to dst, added later in supernode order. */
 static void l_super(const cholmod_factor *L, int32_t s, double *x, double *e, int i0, double *dst)
 {
@@ -45,32 +46,42 @@ static void l_super(const cholmod_factor *L, int32_t s, double *x, double *e, in
 typedef struct job {
     const aug_par_plan *pl;
     const cholmod_factor *L;
-    double *x, *e[2], *defer;
+    double *x, *e, *defer;
+    int64_t elen;        /* per-thread length of e */
     int sys;
+    atomic_int next;     /* the next task to take */
 } job;
 
-/* one bin: L' in decreasing, L in increasing supernode order */
-static void run_bin(void *arg, int t)
+/* thread t takes tasks (subtrees below top) until none is left, each as
+   the serial solve does it: L' in decreasing, L in increasing supernode
+   order; a task's supernodes read and write x only on the task's columns
+   and their ancestors in top (read for L', deferred for L) */
+static void run_tasks(void *arg, int t)
 {
     job *j = arg;
-    if (t > 1) return; /* a pool of more than two threads: two bins */
     const aug_par_plan *pl = j->pl;
-    const int32_t *list = pl->bin[t];
-    if (j->sys == AUG_PAR_LT) {
-        for (int64_t k = pl->nbin[t] - 1; k >= 0; k--) lt_super(j->L, list[k], j->x, j->e[t]);
-        return;
-    }
     const int *sup = j->L->super, *pi = j->L->pi;
-    for (int64_t k = 0; k < pl->nbin[t]; k++) {
-        int32_t s = list[k];
-        int nb = pi[s + 1] - pi[s] - (sup[s + 1] - sup[s]);
-        int i0 = pl->defer_i0[s] >= 0 ? pl->defer_i0[s] : nb;
-        l_super(j->L, s, j->x, j->e[t], i0, i0 < nb ? j->defer + pl->defer_at[s] : NULL);
+    double *e = j->e + (int64_t)t * j->elen;
+    for (;;) {
+        int k = atomic_fetch_add(&j->next, 1);
+        if (k >= pl->ntask) return;
+        const int32_t *list = pl->task_s + pl->task_p[k];
+        int64_t len = pl->task_p[k + 1] - pl->task_p[k];
+        if (j->sys == AUG_PAR_LT) {
+            for (int64_t q = len - 1; q >= 0; q--) lt_super(j->L, list[q], j->x, e);
+            continue;
+        }
+        for (int64_t q = 0; q < len; q++) {
+            int32_t s = list[q];
+            int nb = pi[s + 1] - pi[s] - (sup[s + 1] - sup[s]);
+            int i0 = pl->defer_i0[s] >= 0 ? pl->defer_i0[s] : nb;
+            l_super(j->L, s, j->x, e, i0, i0 < nb ? j->defer + pl->defer_at[s] : NULL);
+        }
     }
 }
 
-/* after the bins of L x = b: every supernode in increasing order, a top
-   one computed, a bin one's deferred updates x(rows) += dst added (x(rows)
+/* after the tasks of L x = b: every supernode in increasing order, a top
+   one computed, a task one's deferred updates x(rows) += dst added (x(rows)
    - L2 x1 = x(rows) + (0 - L2 x1): the order and operands of the serial
    solve) */
 static void l_top(const job *j)
@@ -80,7 +91,7 @@ static void l_top(const job *j)
     int64_t next = 0;
     for (int64_t s = 0; s < pl->nsuper; s++) {
         if (next < pl->ntop && pl->top[next] == s) {
-            l_super(j->L, (int32_t)s, j->x, j->e[0], pi[s + 1] - pi[s] - (sup[s + 1] - sup[s]), NULL);
+            l_super(j->L, (int32_t)s, j->x, j->e, pi[s + 1] - pi[s] - (sup[s + 1] - sup[s]), NULL);
             next++;
             continue;
         }
@@ -109,21 +120,22 @@ int aug_par_super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor
         free(e);
         return 0;
     }
-    job j = {pl, Ls, x, {NULL, NULL}, NULL, sys};
-    j.e[0] = aug_par_buf(p, 0, (size_t)pl->tmpmax + 1);
-    j.e[1] = aug_par_buf(p, 1, (size_t)pl->tmpmax + 1);
+    job j = {pl, Ls, x, NULL, NULL, pl->tmpmax + 1, sys, 0};
+    int nt = aug_par_nthreads(p);
+    j.e = aug_par_buf(p, 0, (size_t)nt * (size_t)j.elen);
     if (sys == AUG_PAR_L) j.defer = aug_par_buf(p, 2, (size_t)pl->ndefer + 1);
-    if (!j.e[0] || !j.e[1] || (sys == AUG_PAR_L && !j.defer)) return -1;
+    if (!j.e || (sys == AUG_PAR_L && !j.defer)) return -1;
+    atomic_init(&j.next, 0);
     /* one BLAS thread inside each worker: a threaded dgemv would split the
        sums differently from the serial solve's */
     int nblas = openblas_get_num_threads();
     if (nblas > 1) openblas_set_num_threads(1);
     if (sys == AUG_PAR_LT) {
-        /* the top part first (ancestors of both bins), then the bins */
-        for (int64_t k = pl->ntop - 1; k >= 0; k--) lt_super(Ls, pl->top[k], x, j.e[0]);
-        aug_par_run(p, run_bin, &j);
+        /* the top part first (the ancestors of every task), then the tasks */
+        for (int64_t k = pl->ntop - 1; k >= 0; k--) lt_super(Ls, pl->top[k], x, j.e);
+        aug_par_run(p, run_tasks, &j);
     } else {
-        aug_par_run(p, run_bin, &j);
+        aug_par_run(p, run_tasks, &j);
         l_top(&j);
     }
     if (nblas > 1) openblas_set_num_threads(nblas);
@@ -136,7 +148,7 @@ int aug_par_ltsolve_all(aug_par *p, const aug_base *b, double *x)
 {
     const aug_par_plan *pl = b->par_plan;
     if (!p || !b->Ls || !pl) return 1;
-    if (!aug_par_buf(p, 0, (size_t)pl->tmpmax + 1) || !aug_par_buf(p, 1, (size_t)pl->tmpmax + 1)) return -1;
+    if (!aug_par_buf(p, 0, (size_t)aug_par_nthreads(p) * ((size_t)pl->tmpmax + 1))) return -1;
     for (int64_t k = 0; k < b->n; k++) x[k] *= b->sqrtd[k];
     return aug_par_super_solve(p, pl, b->Ls, AUG_PAR_LT, x);
 }

@@ -46,6 +46,7 @@ void aug_par_plan_free(aug_par_plan *pl)
     if (!pl) return;
     free(pl->top), free(pl->bin[0]), free(pl->bin[1]);
     free(pl->defer_i0), free(pl->defer_at);
+    free(pl->task_p), free(pl->task_s);
     free(pl);
 }
 
@@ -115,8 +116,24 @@ aug_par_plan *aug_par_plan_new(const cholmod_factor *Ls)
     for (int64_t s = 0; s < ns; s++)
         if (label[s] != TOP && (spar[s] < 0 || label[spar[s]] == TOP)) front[nf++] = (int32_t)s;
     lpt2(front, nf, W, tmp, label, wb);
-    for (int64_t s = ns - 1; s >= 0; s--)
+    /* tasks: the frontier's subtrees in tmp's order (heaviest first); head
+       becomes the task of each supernode below top */
+    for (int64_t s = 0; s < ns; s++) head[s] = -1;
+    for (int64_t t = 0; t < nf; t++) head[tmp[t].s] = (int32_t)t;
+    for (int64_t s = ns - 1; s >= 0; s--) {
         if (label[s] == 0xff) label[s] = label[spar[s]];
+        if (label[s] != TOP && head[s] < 0) head[s] = head[spar[s]];
+    }
+    pl->ntask = (int32_t)nf;
+    pl->task_p = aug_calloc((size_t)nf + 1, sizeof *pl->task_p);
+    pl->task_s = aug_malloc((size_t)ns * sizeof *pl->task_s);
+    if (!pl->task_p || !pl->task_s) goto fail;
+    for (int64_t s = 0; s < ns; s++)
+        if (head[s] >= 0) pl->task_p[head[s] + 1]++;
+    for (int64_t t = 0; t < nf; t++) pl->task_p[t + 1] += pl->task_p[t];
+    for (int64_t t = 0; t < nf; t++) front[t] = (int32_t)pl->task_p[t]; /* fill pointers */
+    for (int64_t s = 0; s < ns; s++)
+        if (head[s] >= 0) pl->task_s[front[head[s]]++] = (int32_t)s;
     pl->top = aug_malloc((size_t)(bestk + 1) * sizeof *pl->top);
     pl->bin[0] = aug_malloc((size_t)ns * sizeof *pl->bin[0]);
     pl->bin[1] = aug_malloc((size_t)ns * sizeof *pl->bin[1]);

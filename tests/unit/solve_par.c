@@ -118,7 +118,7 @@ static int64_t ndiff(const double *a, const double *b, int64_t n)
 
 /* top, bin 0 and bin 1 partition the supernodes, each list ascending; the
    ancestors of a bin's supernode are in that bin or in top, those of a top
-   one in top; the weights add up and the split gains */
+   one in top; so for the tasks; the weights add up and the split gains */
 static void plan_is_a_split(void)
 {
     fixture f = {0};
@@ -150,13 +150,38 @@ static void plan_is_a_split(void)
             T_CHECK(a == 2 || a == lab[s], "supernode %d (set %d) has an ancestor in set %d", (int)s, lab[s], a);
         }
     }
+    /* the tasks: the supernodes below top, each once, ascending within a
+       task, their ancestors in the same task or in top */
+    int *task = malloc((size_t)ns * sizeof *task);
+    for (int64_t s = 0; s < ns; s++) task[s] = -1;
+    int64_t ntasked = 0;
+    for (int k = 0; k < f.pl->ntask; k++)
+        for (int64_t q = f.pl->task_p[k]; q < f.pl->task_p[k + 1]; q++) {
+            int32_t s = f.pl->task_s[q];
+            T_CHECK(s >= 0 && s < ns && task[s] < 0 && lab[s] != 2, "task %d: supernode %d", k, (int)s);
+            T_CHECK(q == f.pl->task_p[k] || f.pl->task_s[q - 1] < s, "task %d not ascending", k);
+            if (s >= 0 && s < ns) task[s] = k;
+            ntasked++;
+        }
+    T_CHECK(ntasked == ns - f.pl->ntop, "%lld supernodes in tasks, %lld below top", (long long)ntasked,
+            (long long)(ns - f.pl->ntop));
+    for (int64_t s = 0; s < ns; s++) {
+        if (task[s] < 0) continue;
+        int nscol = sup[s + 1] - sup[s];
+        for (int q = pi[s] + nscol; q < pi[s + 1]; q++) {
+            int a = sof[rows[q]];
+            T_CHECK(lab[a] == 2 || task[a] == task[s], "supernode %d (task %d): ancestor %d in task %d",
+                    (int)s, task[s], a, task[a]);
+        }
+    }
+    free(task);
     double w = f.pl->wtop + f.pl->wbin[0] + f.pl->wbin[1];
     T_CHECK(fabs(w - wsum) <= 1e-12 * wsum, "weights %g, supernodes %g", w, wsum);
     double cost = f.pl->wtop + fmax(f.pl->wbin[0], f.pl->wbin[1]);
     T_CHECK(cost <= 0.95 * wsum, "split cost %g of serial %g", cost, wsum);
     T_CHECK(f.pl->nbin[0] > 0 && f.pl->nbin[1] > 0, "an empty bin");
-    printf("  split: %d supernodes, top %d (%.0f%%), bins %d / %d (%.0f%% / %.0f%%)\n", (int)ns,
-           (int)f.pl->ntop, 100 * f.pl->wtop / wsum, (int)f.pl->nbin[0], (int)f.pl->nbin[1],
+    printf("  split: %d supernodes, top %d (%.0f%%), %d tasks, bins %d / %d (%.0f%% / %.0f%%)\n", (int)ns,
+           (int)f.pl->ntop, 100 * f.pl->wtop / wsum, (int)f.pl->ntask, (int)f.pl->nbin[0], (int)f.pl->nbin[1],
            100 * f.pl->wbin[0] / wsum, 100 * f.pl->wbin[1] / wsum);
     free(lab), free(sof);
     fix_close(&f);
