@@ -1,7 +1,9 @@
 /* Supernodal triangular solves Ls x = b and Ls' x = b for one right-hand
    side on two threads over the split of par_split.c, each supernode computed
-   as cholmod_super_lsolve / ltsolve compute it, so the result is bitwise the
-   serial one. Paper 001 sec. 3.6 parallelizes AMPS steps 1-4 and leaves the
+   as cholmod_super_lsolve / ltsolve compute it: Ls' x = b is bitwise the
+   serial solve (a supernode reads only its ancestors' final x), Ls x = b
+   equal to rounding (the top rows' updates from below are summed from zero,
+   then added). Paper 001 sec. 3.6 parallelizes AMPS steps 1-4 and leaves the
    final back-substitution (step 6, ~80% of a brain step by its fig. 8, the
    c |L| of eq. 3.34) serial; this is its two-core form (issue 15 item 4). */
 #include <stdatomic.h>
