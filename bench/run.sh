@@ -18,4 +18,5 @@ run blade.sh
 run thesis.sh
 run thesis_acdm.sh
 run organs.sh
+run par_threads.sh
 exit $status

@@ -120,6 +120,7 @@ typedef struct aug_base {
                             full back-substitutions (NULL: none) */
     double *sqrtd;       /* sqrt(D(j,j)), permuted order, when Ls is set */
     int32_t *super_of;   /* supernode of each column of Ls */
+    struct aug_par_plan *par_plan; /* Ls's two-core split (aug_par.h; NULL: none) */
 } aug_base;
 
 /* Take L (simplicial or supernodal: converted to simplicial LDL'), check
@@ -306,6 +307,7 @@ typedef struct aug_amps {
     int pivot;           /* AUG_PIVOT_S2, _ALT (eqs. 3.16-3.17) or _AUTO */
     int pivot_used;      /* the last step's: S2 or ALT */
     double berr_piv[2];  /* berr_h0 of S2 and ALT when last used (AUTO) */
+    struct aug_par *par; /* borrowed two-core pool for the full L^-T (NULL: serial) */
 } aug_amps;
 
 /* Schur pivots of AMPS (paper 001): S2 of eq. 3.8, the (1,2) block of S1 as

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 #include "aug_solve.h"
+#include "aug_par.h"
 
 /* workspace of field_corrected, sized for K_t of order n with |S| = ns */
 typedef struct aug_hcorr {
@@ -229,7 +230,8 @@ static int field(aug_amps *a, const aug_base *b, const double *wp, const int32_t
 {
     if (Q) return closure_field(a, b, wp, Q, nq, y);
     if (v_times(a, b, wp, NULL, 0, y, a->t2)) return -1;
-    return aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm);
+    int rc = aug_par_ltsolve_all(a->par, b, y); /* two cores when a->par is set */
+    return rc <= 0 ? rc : aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm);
 }
 
 /* out := the closure in L' (paper 000 thm 3: the union of the etree paths)
@@ -515,7 +517,11 @@ int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
     const aug_schur *s = &a->schur;
     double *xa = a->x, *wp = a->w, *z = a->t2, *y = a->y;
     for (int64_t k = 0; k < b->n; k++) z[k] = r[b->perm[k]];
-    if (b->Ls) {
+    if (a->par && b->Ls && b->par_plan) { /* Ls^-1 P r on two cores, then D^-1/2 */
+        if (aug_par_super_solve(a->par, b->par_plan, b->Ls, AUG_PAR_L, z))
+            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+        for (int64_t k = 0; k < b->n; k++) z[k] /= b->sqrtd[k];
+    } else if (b->Ls) {
         cholmod_dense B = {0};
         B.nrow = B.d = B.nzmax = (size_t)b->n, B.ncol = 1;
         B.x = z, B.xtype = CHOLMOD_REAL, B.dtype = CHOLMOD_DOUBLE;
@@ -542,7 +548,8 @@ int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
     pivot_solve(a, c, xa, NULL, wp);
     if (v_times(a, b, wp, NULL, 0, y, x)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     for (int64_t t = 0; t < b->n; t++) y[t] += z[t];
-    if (aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm))
+    int prc = aug_par_ltsolve_all(a->par, b, y);
+    if (prc < 0 || (prc > 0 && aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm)))
         return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "supernodal solve failed (%d)", cm->status);
     for (int64_t i = 0; i < c->nb; i++) x[i] = y[b->pinv[i]];
     for (int64_t i = c->nb; i < c->n; i++) x[i] = r[i];

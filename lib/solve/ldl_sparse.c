@@ -5,6 +5,7 @@
 #include <string.h>
 #include <cblas.h>
 #include "aug_solve.h"
+#include "aug_par.h"
 
 /* parent[j] = min{i > j : L(i,j) != 0}, -1 at a root: the elimination tree of L
    (paper 000 appendix def. 2; [Liu 1990]) */
@@ -167,6 +168,7 @@ aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double
         const int *sup = b->Ls->super;
         for (size_t s = 0; s < b->Ls->nsuper; s++)
             for (int j = sup[s]; j < sup[s + 1]; j++) b->super_of[j] = (int32_t)s;
+        b->par_plan = aug_par_plan_new(b->Ls); /* NULL: no split, serial solves */
     }
     free(mark);
     free(work);
@@ -192,6 +194,7 @@ void aug_base_release(aug_base *b, cholmod_common *cm)
     if (b->Ls) cholmod_free_factor(&b->Ls, cm);
     free(b->sqrtd);
     free(b->super_of);
+    aug_par_plan_free(b->par_plan);
     free(b->parent);
     free(b->perm);
     free(b->pinv);

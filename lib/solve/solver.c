@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "aug_solve.h"
+#include "aug_par.h"
 
 const char *const aug_method_names[AUG_M_COUNT] = {"amps", "gmres", "refactor", "rowupdate", "pcg",
                                                    "auto", "cgm-cov", "cgm-es", "cgm-log", "cgm-as"};
@@ -85,6 +86,7 @@ struct aug_solver {
     aug_auto au;
     aug_refactor au_rf;
     int au_swapped;      /* the background factor became the base this step */
+    aug_par *par;        /* --threads >= 2: the two-core L^-T of AMPS (aug_par.h) */
 };
 
 aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
@@ -105,6 +107,7 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     aug_refactor_init(&s->au_rf);
     s->amps.memo.use_cholmod = o->reach_cholmod;
     s->amps.schur.want_rcond = o->check; /* a diagnostic: O(na^2) per step */
+    s->par = aug_par_new(o->nthreads < 2 ? 1 : 2); /* NULL: serial */
     for (int i = 0; i < o->nmeth; i++) s->use[o->order[i]] = 1;
     for (int m = AUG_M_CGM_COV; m <= AUG_M_CGM_AS; m++)
         if (s->use[m] && o->dynamic) {
@@ -170,6 +173,7 @@ void aug_solver_free(aug_solver *s)
 {
     if (!s) return;
     aug_bg_free(s->bg);
+    aug_par_free(s->par);
     aug_amps_free(&s->amps);
     aug_gmres_free(s->gm);
     aug_refactor_free(&s->rf, s->cm);
@@ -224,7 +228,14 @@ double aug_solver_full_solve_ms(aug_solver *s, int reps)
     }
     for (int r = 0; r < reps; r++) {
         double t0 = 1e3 * aug_now();
-        if (b->Ls) {
+        if (s->par && b->par_plan) { /* as AMPS solves with --threads 2 */
+            if (s->fX && s->fX->nrow != (size_t)b->n) cholmod_free_dense(&s->fX, s->cm);
+            if (!s->fX) s->fX = cholmod_allocate_dense((size_t)b->n, 1, (size_t)b->n, CHOLMOD_REAL, s->cm);
+            if (!s->fX || aug_par_full_solve(s->par, b, s->fB->x, s->fX->x)) {
+                reps = 0;
+                break;
+            }
+        } else if (b->Ls) {
             if (!cholmod_solve2(CHOLMOD_A, b->Ls, s->fB, NULL, &s->fX, NULL, &s->fY, &s->fE, s->cm)) {
                 reps = 0;
                 break;
@@ -350,6 +361,7 @@ static int amps_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
     s->amps.kt = &s->cut, s->amps.correct_max = s->o.amps_correct; /* the correction on H */
     s->amps.floor_k = AMPS_FLOOR;
+    s->amps.par = s->par;
     s->amps.pivot = s->o.amps_pivot, s->amps.field_memo = s->o.amps_field_memo;
     int rc = aug_amps_step(&s->amps, s->base, &s->cum, q->full ? NULL : q->out, q->nout, s->o.rcond_min,
                            r->x, r->t, s->cm, e);
@@ -360,6 +372,7 @@ static int amps_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 static int amps_prep(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
     (void)q;
+    s->amps.par = s->par;
     s->amps.pivot = s->o.amps_pivot, s->amps.field_memo = s->o.amps_field_memo;
     int rc = aug_amps_prepare(&s->amps, s->base, &s->cum, s->o.rcond_min, r->t, s->cm, e);
     r->sing = s->amps.schur.singular;

@@ -1,0 +1,326 @@
+/* The two-core supernodal solves (lib/solve/par_*.c) on a factored 3-D
+   27-point grid matrix with three DOFs per node: the split is a partition
+   of the supernodes whose bins share no ancestor-descendant pair, and
+   Ls^-T x (the back-substitution of an AMPS step) on two and three threads
+   equals cholmod_solve2 bitwise, Ls^-1 x and K^-1 b to 1e-14 (and are
+   repeatable bitwise), with OpenBLAS at one thread or two; K x = b holds
+   to rounding. */
+#include <gsl/gsl_rng.h>
+#include <string.h>
+#include "t.h"
+#include "aug_par.h"
+#include "aug_fem.h"
+
+extern void openblas_set_num_threads(int);
+
+static cholmod_common cm;
+
+enum { G = 16 }; /* G^3 nodes, 3 DOFs each */
+
+/* K = Lap_w (x) M + 1e-3 I: Lap_w the Laplacian of the 27-point grid graph
+   with random positive weights, M a fixed SPD 3x3 (upper part, stype 1) */
+static cholmod_sparse *grid_matrix(gsl_rng *r)
+{
+    int64_t nn = (int64_t)G * G * G, n = 3 * nn;
+    static const double M[3][3] = {{2, 0.5, 0.2}, {0.5, 1.5, 0.3}, {0.2, 0.3, 1}};
+    cholmod_triplet *T = cholmod_allocate_triplet((size_t)n, (size_t)n, (size_t)(nn * 27 * 9), 1, CHOLMOD_REAL, &cm);
+    int *Ti = T->i, *Tj = T->j;
+    double *Tx = T->x, *deg = calloc((size_t)nn, sizeof *deg);
+    size_t k = 0;
+    for (int z = 0; z < G; z++)
+        for (int y = 0; y < G; y++)
+            for (int x = 0; x < G; x++) {
+                int64_t u = ((int64_t)z * G + y) * G + x;
+                for (int dz = -1; dz <= 1; dz++)
+                    for (int dy = -1; dy <= 1; dy++)
+                        for (int dx = -1; dx <= 1; dx++) {
+                            int X = x + dx, Y = y + dy, Z = z + dz;
+                            if (X < 0 || Y < 0 || Z < 0 || X >= G || Y >= G || Z >= G) continue;
+                            int64_t v = ((int64_t)Z * G + Y) * G + X;
+                            if (v <= u) continue;
+                            double w = 0.5 + gsl_rng_uniform(r);
+                            deg[u] += w, deg[v] += w;
+                            for (int a = 0; a < 3; a++)
+                                for (int b = 0; b < 3; b++)
+                                    Ti[k] = (int)(3 * u + a), Tj[k] = (int)(3 * v + b), Tx[k++] = -w * M[a][b];
+                        }
+            }
+    for (int64_t u = 0; u < nn; u++)
+        for (int a = 0; a < 3; a++)
+            for (int b = a; b < 3; b++)
+                Ti[k] = (int)(3 * u + a), Tj[k] = (int)(3 * u + b), Tx[k++] = deg[u] * M[a][b] + (a == b ? 1e-3 : 0);
+    T->nnz = k;
+    /* the lower couplings (v > u) are stored at (3u+a, 3v+b): upper, as stype 1 */
+    cholmod_sparse *K = cholmod_triplet_to_sparse(T, 0, &cm);
+    cholmod_free_triplet(&T, &cm);
+    free(deg);
+    return K;
+}
+
+typedef struct fixture {
+    gsl_rng *r;
+    cholmod_sparse *K;
+    cholmod_factor *L; /* supernodal */
+    aug_par_plan *pl;
+    int64_t n;
+} fixture;
+
+static void fix_open(fixture *f)
+{
+    f->r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(f->r, 15);
+    f->K = grid_matrix(f->r);
+    cm.supernodal = CHOLMOD_SUPERNODAL;
+    f->L = cholmod_analyze(f->K, &cm);
+    cholmod_factorize(f->K, f->L, &cm);
+    cm.supernodal = CHOLMOD_AUTO;
+    f->n = (int64_t)f->K->nrow;
+    T_CHECK(f->L->is_super && f->L->minor == f->L->n, "supernodal factor");
+    f->pl = aug_par_plan_new(f->L);
+    T_CHECK(f->pl != NULL, "no split of %d supernodes", (int)f->L->nsuper);
+}
+
+static void fix_close(fixture *f)
+{
+    aug_par_plan_free(f->pl);
+    cholmod_free_factor(&f->L, &cm);
+    cholmod_free_sparse(&f->K, &cm);
+    gsl_rng_free(f->r);
+}
+
+static double *random_vec(gsl_rng *r, int64_t n)
+{
+    double *x = malloc((size_t)n * sizeof *x);
+    for (int64_t i = 0; i < n; i++) x[i] = gsl_rng_uniform(r) - 0.5;
+    return x;
+}
+
+/* cholmod_solve2 of sys on b: the serial reference */
+static double *cholmod_ref(fixture *f, int sys, const double *b)
+{
+    cholmod_dense B = {0}, *X = NULL, *Y = NULL, *E = NULL;
+    B.nrow = B.d = B.nzmax = (size_t)f->n, B.ncol = 1;
+    B.x = (void *)b, B.xtype = CHOLMOD_REAL, B.dtype = CHOLMOD_DOUBLE;
+    int ok = cholmod_solve2(sys, f->L, &B, NULL, &X, NULL, &Y, &E, &cm);
+    T_CHECK(ok, "cholmod_solve2: status %d", cm.status);
+    double *x = calloc((size_t)f->n, sizeof *x);
+    if (ok) memcpy(x, X->x, (size_t)f->n * sizeof *x);
+    cholmod_free_dense(&X, &cm), cholmod_free_dense(&Y, &cm), cholmod_free_dense(&E, &cm);
+    return x;
+}
+
+static int64_t ndiff(const double *a, const double *b, int64_t n)
+{
+    int64_t d = 0;
+    for (int64_t i = 0; i < n; i++) d += memcmp(a + i, b + i, sizeof *a) != 0;
+    return d;
+}
+
+/* top, bin 0 and bin 1 partition the supernodes, each list ascending; the
+   ancestors of a bin's supernode are in that bin or in top, those of a top
+   one in top; so for the tasks; the weights add up and the split gains */
+static void plan_is_a_split(void)
+{
+    fixture f = {0};
+    fix_open(&f);
+    if (!f.pl) return fix_close(&f);
+    const cholmod_factor *L = f.L;
+    int64_t ns = (int64_t)L->nsuper;
+    const int *sup = L->super, *pi = L->pi, *rows = L->s;
+    int *lab = malloc((size_t)ns * sizeof *lab), *sof = malloc((size_t)f.n * sizeof *sof);
+    for (int64_t s = 0; s < ns; s++) lab[s] = -1;
+    for (int64_t s = 0; s < ns; s++)
+        for (int j = sup[s]; j < sup[s + 1]; j++) sof[j] = (int)s;
+    const int32_t *lists[3] = {f.pl->bin[0], f.pl->bin[1], f.pl->top};
+    int64_t lens[3] = {f.pl->nbin[0], f.pl->nbin[1], f.pl->ntop};
+    double wsum = 0;
+    for (int l = 0; l < 3; l++)
+        for (int64_t k = 0; k < lens[l]; k++) {
+            int32_t s = lists[l][k];
+            T_CHECK(s >= 0 && s < ns && lab[s] < 0, "supernode %d listed twice", (int)s);
+            T_CHECK(k == 0 || lists[l][k - 1] < s, "list %d not ascending", l);
+            if (s >= 0 && s < ns) lab[s] = l;
+        }
+    for (int64_t s = 0; s < ns; s++) {
+        T_CHECK(lab[s] >= 0, "supernode %d in no set", (int)s);
+        int nscol = sup[s + 1] - sup[s], nsrow = pi[s + 1] - pi[s];
+        wsum += (double)nsrow * nscol + (nsrow - nscol);
+        for (int q = pi[s] + nscol; q < pi[s + 1]; q++) {
+            int a = lab[sof[rows[q]]];
+            T_CHECK(a == 2 || a == lab[s], "supernode %d (set %d) has an ancestor in set %d", (int)s, lab[s], a);
+        }
+    }
+    /* the tasks: the supernodes below top, each once, ascending within a
+       task, their ancestors in the same task or in top */
+    int *task = malloc((size_t)ns * sizeof *task);
+    for (int64_t s = 0; s < ns; s++) task[s] = -1;
+    int64_t ntasked = 0;
+    for (int k = 0; k < f.pl->ntask; k++)
+        for (int64_t q = f.pl->task_p[k]; q < f.pl->task_p[k + 1]; q++) {
+            int32_t s = f.pl->task_s[q];
+            T_CHECK(s >= 0 && s < ns && task[s] < 0 && lab[s] != 2, "task %d: supernode %d", k, (int)s);
+            T_CHECK(q == f.pl->task_p[k] || f.pl->task_s[q - 1] < s, "task %d not ascending", k);
+            if (s >= 0 && s < ns) task[s] = k;
+            ntasked++;
+        }
+    T_CHECK(ntasked == ns - f.pl->ntop, "%lld supernodes in tasks, %lld below top", (long long)ntasked,
+            (long long)(ns - f.pl->ntop));
+    for (int64_t s = 0; s < ns; s++) {
+        if (task[s] < 0) continue;
+        int nscol = sup[s + 1] - sup[s];
+        for (int q = pi[s] + nscol; q < pi[s + 1]; q++) {
+            int a = sof[rows[q]];
+            T_CHECK(lab[a] == 2 || task[a] == task[s], "supernode %d (task %d): ancestor %d in task %d",
+                    (int)s, task[s], a, task[a]);
+        }
+    }
+    free(task);
+    double w = f.pl->wtop + f.pl->wbin[0] + f.pl->wbin[1];
+    T_CHECK(fabs(w - wsum) <= 1e-12 * wsum, "weights %g, supernodes %g", w, wsum);
+    double cost = f.pl->wtop + fmax(f.pl->wbin[0], f.pl->wbin[1]);
+    T_CHECK(cost <= 0.95 * wsum, "split cost %g of serial %g", cost, wsum);
+    T_CHECK(f.pl->nbin[0] > 0 && f.pl->nbin[1] > 0, "an empty bin");
+    printf("  split: %d supernodes, top %d (%.0f%%), %d tasks, bins %d / %d (%.0f%% / %.0f%%)\n", (int)ns,
+           (int)f.pl->ntop, 100 * f.pl->wtop / wsum, (int)f.pl->ntask, (int)f.pl->nbin[0], (int)f.pl->nbin[1],
+           100 * f.pl->wbin[0] / wsum, 100 * f.pl->wbin[1] / wsum);
+    free(lab), free(sof);
+    fix_close(&f);
+}
+
+/* max |a - b| / max |b| */
+static double normdiff(const double *a, const double *b, int64_t n)
+{
+    double d = 0, m = 0;
+    for (int64_t i = 0; i < n; i++) d = fmax(d, fabs(a[i] - b[i])), m = fmax(m, fabs(b[i]));
+    return m > 0 ? d / m : d;
+}
+
+/* Ls^-T x: serial, 2 and 3 threads, 20 repetitions each, bitwise equal to
+   cholmod_solve2's CHOLMOD_Lt; Ls^-1 x: serial bitwise CHOLMOD_L, on 2 and
+   3 threads within 1e-14 of it (a top row's updates from the bins are added
+   later, after a zero start) and bitwise the same on every repetition and
+   thread count. The reference with one OpenBLAS thread (as --threads 1),
+   the solves with OpenBLAS at nblas threads (--threads 2 sets 2; serial
+   is then not bitwise CHOLMOD at 2 BLAS threads, so q = 0 is compared only
+   when nblas is 1). */
+static void solves_bitwise(int nblas)
+{
+    fixture f = {0};
+    fix_open(&f);
+    if (!f.pl) return fix_close(&f);
+    aug_par *p2 = aug_par_new(2), *p3 = aug_par_new(3);
+    T_CHECK(p2 && p3 && aug_par_nthreads(p2) == 2 && aug_par_nthreads(p3) == 3, "pools");
+    T_CHECK(aug_par_new(1) == NULL, "a pool of one thread");
+    double *b = random_vec(f.r, f.n), *x = malloc((size_t)f.n * sizeof *x);
+    double *x2 = malloc((size_t)f.n * sizeof *x2);
+    for (int sys = AUG_PAR_L; sys <= AUG_PAR_LT && p2 && p3; sys++) {
+        openblas_set_num_threads(1); /* the reference: --threads 1 */
+        double *ref = cholmod_ref(&f, sys == AUG_PAR_L ? CHOLMOD_L : CHOLMOD_Lt, b);
+        openblas_set_num_threads(nblas);
+        aug_par *ps[3] = {NULL, p2, p3};
+        for (int q = 0; q < 3; q++)
+            for (int rep = 0; rep < 20; rep++) {
+                memcpy(x, b, (size_t)f.n * sizeof *x);
+                T_CHECK(aug_par_super_solve(ps[q], f.pl, f.L, sys, x) == 0, "solve failed");
+                int64_t d = ndiff(x, ref, f.n);
+                if (q == 0 && nblas > 1) continue;
+                if (sys == AUG_PAR_LT || q == 0) {
+                    T_CHECK(d == 0, "sys %d, %d threads, rep %d: %lld of %lld entries differ from cholmod_solve2",
+                            sys, q + 1, rep, (long long)d, (long long)f.n);
+                    continue;
+                }
+                double nd = normdiff(x, ref, f.n);
+                T_CHECK(nd <= 1e-14, "L, %d threads: %g from cholmod_solve2", q + 1, nd);
+                if (q == 1 && rep == 0) memcpy(x2, x, (size_t)f.n * sizeof *x2);
+                d = ndiff(x, x2, f.n);
+                T_CHECK(d == 0, "L, %d threads, rep %d: %lld entries differ from the first", q + 1, rep, (long long)d);
+            }
+        free(ref);
+    }
+    openblas_set_num_threads(1);
+    free(b), free(x), free(x2);
+    aug_par_free(p2), aug_par_free(p3);
+    fix_close(&f);
+}
+static void solves_bitwise_blas1(void) { solves_bitwise(1); }
+static void solves_bitwise_blas2(void) { solves_bitwise(2); }
+
+/* K^-1 b by aug_par_full_solve on a base: within 1e-14 of cholmod_solve2 CHOLMOD_A,
+   and the residual of K x = b (computed with cholmod_sdmult, long double
+   norms) at rounding; aug_par_ltsolve_all equals aug_ldl_ltsolve_all */
+static void full_solve_and_base(void)
+{
+    fixture f = {0};
+    fix_open(&f);
+    if (!f.pl) return fix_close(&f);
+    aug_err e = {0};
+    double *b = random_vec(f.r, f.n);
+    cholmod_factor *L0 = cholmod_copy_factor(f.L, &cm);
+    aug_base *base = aug_base_new(L0, f.K, b, -1, &cm, &e);
+    T_CHECK(base && base->Ls && base->par_plan, "base with Ls and its split: %s", e.msg);
+    aug_par *p = aug_par_new(2);
+    if (!base || !base->Ls || !base->par_plan || !p) {
+        aug_base_release(base, &cm), aug_par_free(p), free(b);
+        return fix_close(&f);
+    }
+    double *x = malloc((size_t)f.n * sizeof *x), *y = malloc((size_t)f.n * sizeof *y);
+    T_CHECK(aug_par_full_solve(p, base, b, x) == 0, "full solve");
+    T_CHECK(aug_par_full_solve(NULL, base, b, y) == 1, "no pool: not applicable");
+    cholmod_dense B = {0}, *X = NULL, *Y = NULL, *E = NULL, R = {0};
+    B.nrow = B.d = B.nzmax = (size_t)f.n, B.ncol = 1;
+    B.x = b, B.xtype = CHOLMOD_REAL, B.dtype = CHOLMOD_DOUBLE;
+    cholmod_solve2(CHOLMOD_A, base->Ls, &B, NULL, &X, NULL, &Y, &E, &cm);
+    double nd = normdiff(x, X->x, f.n);
+    T_CHECK(nd <= 1e-14, "full solve: %g from cholmod_solve2", nd);
+    /* r = b - K x */
+    double *r = malloc((size_t)f.n * sizeof *r);
+    memcpy(r, b, (size_t)f.n * sizeof *r);
+    R = B, R.x = r;
+    cholmod_dense Xd = B;
+    Xd.x = x;
+    double mone[2] = {-1, 0}, one[2] = {1, 0};
+    cholmod_sdmult(f.K, 0, mone, one, &Xd, &R, &cm);
+    long double rn = 0, bn = 0;
+    for (int64_t i = 0; i < f.n; i++) rn += (long double)r[i] * r[i], bn += (long double)b[i] * b[i];
+    double rel = (double)sqrtl(rn / bn);
+    T_CHECK(rel < 1e-12, "relres %g", rel);
+    /* the AMPS wrapper: D^1/2 scaling, then Ls^-T */
+    for (int64_t i = 0; i < f.n; i++) x[i] = y[i] = b[i];
+    T_CHECK(aug_par_ltsolve_all(p, base, x) == 0, "ltsolve_all");
+    T_CHECK(aug_ldl_ltsolve_all(base, y, &X, &Y, &E, &cm) == 0, "serial ltsolve_all");
+    int64_t d = ndiff(x, y, f.n);
+    T_CHECK(d == 0, "ltsolve_all: %lld entries differ", (long long)d);
+    cholmod_free_dense(&X, &cm), cholmod_free_dense(&Y, &cm), cholmod_free_dense(&E, &cm);
+    free(x), free(y), free(r), free(b);
+    aug_par_free(p);
+    aug_base_release(base, &cm);
+    fix_close(&f);
+}
+
+/* a simplicial factor or a one-supernode one has no split */
+static void no_split_without_tree(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    cholmod_sparse *K = grid_matrix(r);
+    cm.supernodal = CHOLMOD_SIMPLICIAL;
+    cholmod_factor *L = cholmod_analyze(K, &cm);
+    cholmod_factorize(K, L, &cm);
+    cm.supernodal = CHOLMOD_AUTO;
+    T_CHECK(!L->is_super && aug_par_plan_new(L) == NULL, "a split of a simplicial factor");
+    T_CHECK(aug_par_plan_new(NULL) == NULL, "a split of nothing");
+    cholmod_free_factor(&L, &cm);
+    cholmod_free_sparse(&K, &cm);
+    gsl_rng_free(r);
+}
+
+int main(void)
+{
+    aug_cholmod_start(&cm);
+    T_RUN(plan_is_a_split);
+    T_RUN(solves_bitwise_blas1);
+    T_RUN(solves_bitwise_blas2);
+    T_RUN(full_solve_and_base);
+    T_RUN(no_split_without_tree);
+    cholmod_finish(&cm);
+    T_EXIT();
+}
