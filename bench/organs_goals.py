@@ -9,8 +9,11 @@ come from one run; medians over the steps. Goals (issue 15, "Bench goals"):
   relres_10x        organ meshes: on every step auto's relres <= 10x
                     refactor's on the same step
   refined_10pct     organ meshes: auto refined (full solves) on < 10% of steps
-  rate_2threads     brain: auto or amps with --threads 2 (run names ending in
-                    t2) at >= 20 full-field updates per second (1000 / median)
+  rate_2threads     brain: amps with --threads 2 (DIR/par_summary.csv of
+                    bench/par_threads.sh) at >= 20 full-field updates per
+                    second (1000 / median step)
+  threads2_faster   organ meshes (par_summary.csv): the median step with
+                    --threads 2 below the one with --threads 1
   beam_amps_2x      beam h=256 (both splits): rowupdate's median / amps's >= 2,
                     amps's relres <= 10x refactor's on every step
   auto_1p1          every scene and kind: auto's total time <= 1.1x the best
@@ -79,11 +82,6 @@ def goals(runs):
                 add("relres_10x", s, k, "%.3gx" % w, "<= 10x", w <= 10)
             nref = sum(1 for r in auto if num(r, "refine") > 0)
             add("refined_10pct", s, k, "%d of %d" % (nref, len(auto)), "< 10%", nref < 0.1 * len(auto))
-        if s == "brain" and k == "one":
-            for (s2, k2, m), rows in runs.items():
-                if s2 == s and k2 == k and m.endswith("t2") and m[:-2] in ("auto", "amps"):
-                    hz = 1000 / med(rows, "time_ms")
-                    add("rate_2threads", s, k + " " + m, "%.3g Hz" % hz, ">= 20 Hz", hz >= 20)
         if s.startswith("beam_h256") and amps and row:
             r = med(row, "time_ms") / med(amps, "time_ms")
             w = worst_relres_ratio(amps, ref) if ref else math.nan
@@ -101,10 +99,26 @@ def goals(runs):
     return out
 
 
+def par_goals(path):
+    out = []
+    if not os.path.exists(path):
+        return out
+    rows = list(csv.DictReader(open(path)))
+    for sc in sorted({r["scene"] for r in rows}):
+        t = {r["threads"]: num(r, "median_step_ms") for r in rows if r["scene"] == sc}
+        if "1" in t and "2" in t:
+            out.append(("threads2_faster", sc, "one", "%.3g -> %.3g ms (%.2fx)" % (t["1"], t["2"], t["1"] / t["2"]),
+                        "2 threads faster", "yes" if t["2"] < t["1"] else "NO"))
+        if sc == "brain" and "2" in t:
+            hz = 1000 / t["2"]
+            out.append(("rate_2threads", sc, "one", "%.3g Hz" % hz, ">= 20 Hz", "yes" if hz >= 20 else "NO"))
+    return out
+
+
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
-    rows = goals(load(sys.argv[1]))
+    rows = goals(load(sys.argv[1])) + par_goals(os.path.join(sys.argv[1], "par_summary.csv"))
     head = ("goal", "scene", "kind", "measured", "target", "met")
     if len(sys.argv) > 2:
         with open(sys.argv[2], "w", newline="") as f:
