@@ -372,18 +372,22 @@ typedef struct aug_refactor {
     int kept;            /* 1 if the factor's numeric storage was kept */
     int singular;
     cholmod_dense *X, *Y, *E; /* cholmod_solve2 workspaces */
+    const void *given;   /* the base aug_refactor_take_base gave its factor to */
 } aug_refactor;
 void aug_refactor_init(aug_refactor *r);
 void aug_refactor_free(aug_refactor *r, cholmod_common *cm);
 /* the fill-reducing ordering (perm[k]: original index at position k) of the
    first n DOFs to extend from now on; 0, or -1 out of memory */
 int aug_refactor_order(aug_refactor *r, const int32_t *perm, int64_t n);
-/* P K_t P' = L L' as in aug_refactor_step (extended ordering), made the
-   base of step (aug_base_new: its simplicial LDL', a_b = K_t^-1 f_t); NULL
-   with r->singular = 1 when K_t is not positive definite (e not set), NULL
-   with e on other failures. times: assemble, analyze, factor, base. */
-aug_base *aug_refactor_base(aug_refactor *r, const aug_cutmat *m, int32_t step, double times[4],
-                            cholmod_common *cm, aug_err *e);
+/* P K_t P' = L L' by the step of aug_refactor_step, the factor moved into a
+   new base of step (aug_base_new: Ls = L, its simplicial LDL', a_b = K_t^-1
+   f_t); old (the base replaced, or NULL) hands its supernodal factor back
+   first when only the caller holds it (its storage, and its symbolic
+   analysis when r made it). NULL with r->singular = 1 when K_t is not
+   positive definite (e not set), NULL with e on other failures. times:
+   assemble, analyze, factor, base. */
+aug_base *aug_refactor_take_base(aug_refactor *r, const aug_cutmat *m, int32_t step, aug_base *old,
+                                 double times[4], cholmod_common *cm, aug_err *e);
 /* times: assemble, analyze, factor, solve */
 int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double times[4],
                       cholmod_common *cm, aug_err *e);

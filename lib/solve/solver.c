@@ -539,11 +539,11 @@ static void as_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv 
 
 /* --method auto: the step by the choice of the cost model (auto_policy.c),
    AMPS on the base or a synchronous re-factorization of K_t that becomes the
-   base (aug_refactor_base; also when AMPS calls S2 singular); the background
+   base (aug_refactor_take_base; also when AMPS calls S2 singular); the background
    job, when the model asks for it, starts after the step */
 static int auto_rebase(aug_solver *s, step_res *r, aug_err *e)
 {
-    aug_base *nb = aug_refactor_base(&s->au_rf, &s->cut, s->step, r->t, s->cm, e);
+    aug_base *nb = aug_refactor_take_base(&s->au_rf, &s->cut, s->step, s->base, r->t, s->cm, e);
     if (!nb) {
         if (!s->au_rf.singular) return e->code;
         r->sing = 1;
