@@ -251,6 +251,7 @@ typedef struct aug_schur {
     int detsign;
     int singular;
     int64_t nnzE;
+    double flops;        /* of the last aug_schur_factor (formed columns and LU) */
 } aug_schur;
 
 void aug_schur_init(aug_schur *s);
@@ -551,32 +552,50 @@ enum {
     AUG_AUTO_SINGULAR,     /* refactor: AMPS called the step singular */
     AUG_AUTO_SWAPPED       /* AMPS on the background factor swapped in this step */
 };
-/* AMPS steps on a new base that build its state (warm-up); after this many
-   re-factorizations in a row chosen for AUG_AUTO_FIRST_DEARER one base is
-   measured again; the prior of a re-factorization step, in full solves of
-   the base, until one is measured */
+/* AMPS steps on a new base whose excess over the cheapest later step counts
+   as its warm-up; after this many re-factorizations in a row chosen because
+   the first AMPS step on a new base was predicted dearer (FIRST_DEARER, by
+   less than twice) one AMPS step is measured again (the interval doubling
+   after each); the prior of a re-factorization step, in full
+   solves of the base, until one is measured */
 #define AUG_AUTO_WARM 2
 #define AUG_AUTO_PROBE 8
 #define AUG_AUTO_PRIOR 50
+/* the ms per S2 flop assumed until one is fitted (10 Gflop/s, one core of
+   dense LU on this kind of machine) */
+#define AUG_AUTO_CFLOP_PRIOR 1e-7
 typedef struct aug_auto {
     int bg_allowed;        /* a second core: background jobs may run */
     int on_base;           /* AMPS steps on the current base */
-    double a_warm;         /* a warm-up AMPS step (running mean), ms */
+    int64_t na;            /* order of S2 after the last AMPS step on the base */
+    double a1, w1;         /* the first AMPS step on the base: ms, S2 flops */
+    double a_last, w_last; /* the last AMPS step on the base: ms, S2 flops */
+    double a_first, w_first; /* first AMPS steps on the bases (running means) */
+    double c_flop;         /* ms per S2 flop, fitted on the last base where S2 grew
+                              (AUG_AUTO_CFLOP_PRIOR until then) */
     double warm_sum;       /* the warm-up steps on this base, ms */
     double t_warm;         /* their excess over a_ref (running mean), ms */
-    double a_ref, a_last;  /* min and last steady AMPS step on the base, ms */
-    double a_min_prev;     /* a_ref of the last base with steady steps, ms */
+    double a_ref;          /* the cheapest steady AMPS step on the base, ms */
     double excess;         /* sum of (a_j - a_ref) on the base, ms */
     double t_factor;       /* a re-factorization step (running mean), ms; 0: none yet */
     double t_prior;        /* its prior before one is measured, ms */
     int nsync_run;         /* re-factorizations in a row for FIRST_DEARER */
+    int probe_every;       /* ... after which one AMPS step is measured again */
+    int nbase;             /* bases made since the session's (re-factored or swapped in) */
     int choice, reason, want_bg;
-    double est_amps, est_factor; /* the estimates the choice compared */
+    double est_amps, est_factor, w_next; /* the estimates the choice compared,
+                                            the S2 flops predicted for the step */
 } aug_auto;
 void aug_auto_init(aug_auto *a, int bg_allowed);
-int aug_auto_decide(aug_auto *a, int bg_running);
-void aug_auto_observe(aug_auto *a, double ms);
+/* the choice for the next step; s_step: the positions the step's update adds
+   to S2 (its m + k) */
+int aug_auto_decide(aug_auto *a, int bg_running, int64_t s_step);
+/* the step's measured time ms and, for AMPS, its S2 flops and order */
+void aug_auto_observe(aug_auto *a, double ms, double s2_flops, int64_t na);
 void aug_auto_rebased(aug_auto *a);
+/* the flops of the LU of S2 brought from order n0 to n1, re-eliminated from
+   column k0 (0: from scratch), formed columns included (amps_schur.c) */
+double aug_s2_flops(int64_t n0, int64_t n1, int64_t k0);
 
 /* ---- the session (solver.c) -------------------------------------------- */
 
