@@ -564,6 +564,8 @@ enum {
 /* the ms per S2 flop assumed until one is fitted (10 Gflop/s, one core of
    dense LU on this kind of machine) */
 #define AUG_AUTO_CFLOP_PRIOR 1e-7
+#define AUG_AUTO_CFLOP_MIN 2e-8 /* 50 Gflop/s */
+#define AUG_AUTO_CFLOP_MAX 2e-6 /* 0.5 Gflop/s */
 typedef struct aug_auto {
     int bg_allowed;        /* a second core: background jobs may run */
     int on_base;           /* AMPS steps on the current base */
@@ -572,11 +574,13 @@ typedef struct aug_auto {
     double a_last, w_last; /* the last AMPS step on the base: ms, S2 flops */
     double a_first, w_first; /* first AMPS steps on the bases (running means) */
     double c_flop;         /* ms per S2 flop, fitted on the last base where S2 grew
-                              (AUG_AUTO_CFLOP_PRIOR until then) */
+                              (AUG_AUTO_CFLOP_PRIOR until then), clamped to
+                              AUG_AUTO_CFLOP_MIN .. MAX */
     double warm_sum;       /* the warm-up steps on this base, ms */
     double t_warm;         /* their excess over a_ref (running mean), ms */
-    double a_ref;          /* the cheapest steady AMPS step on the base, ms */
-    double excess;         /* sum of (a_j - a_ref) on the base, ms */
+    double a_ref;          /* the first steady AMPS step on the base, ms */
+    double ls[5];          /* sums of 1, j, a_j, j^2, j a_j over the steady steps */
+    double excess;         /* the growth's cost on the base (trend over a_ref), ms */
     double t_factor;       /* a re-factorization step (running mean), ms; 0: none yet */
     double t_prior;        /* its prior before one is measured, ms */
     int nsync_run;         /* re-factorizations in a row for FIRST_DEARER */

@@ -36,7 +36,7 @@ static double predict_flops(const aug_auto *a, int64_t s)
 
 /* The time of the next AMPS step: a_last + c (w_next - w_last) on a base,
    with c the ms per S2 flop fitted on the last base where S2 grew (a prior
-   until then; the time slope per step when the fit gave 0), a_first + c (w_next - w_first) on a
+   until then, and within AUG_AUTO_CFLOP_MIN .. MAX), a_first + c (w_next - w_first) on a
    fresh base (the first steps of the bases before: their state is built
    from scratch, as this one's will be), 0 when no AMPS step was measured */
 static double predict_ms(const aug_auto *a)
@@ -47,7 +47,6 @@ static double predict_ms(const aug_auto *a)
         return v > 0 ? v : 0;
     }
     double grow = a->c_flop * (a->w_next - a->w_last);
-    if (!(a->c_flop > 0) && a->on_base >= 2) grow = (a->a_last - a->a1) / (a->on_base - 1);
     return a->a_last + (grow > 0 ? grow : 0);
 }
 
@@ -56,10 +55,11 @@ static double predict_ms(const aug_auto *a)
    3.6: a re-factorization resets that growth, in the foreground or in a
    thread). With T the time of a re-factorization step (measured, else the
    prior), est the predicted time of the next AMPS step (predict_ms, from
-   the S2 flops predict_flops), a_ref the cheapest AMPS step on the base
-   after its first AUG_AUTO_WARM (the warm-up), E = sum_j (a_j - a_ref) the
-   time the growth has cost and R = T + the warm-up's excess over a_ref
-   (measured on the bases before), the cost of a new base:
+   the S2 flops predict_flops), a_ref the first AMPS step on the base after
+   its first AUG_AUTO_WARM (the warm-up), E = sum_j g (j - WARM) the time the
+   growth has cost (g the least-squares slope of the steady steps' times)
+   and R = T + the warm-up's excess over a_ref (measured on the bases
+   before), the cost of a new base:
      - a background job running: AMPS;
      - a fresh base: re-factor again when est >= T (the first AMPS step on a
        new base would cost more than a re-factorization: the 2-D refined cut
@@ -125,17 +125,25 @@ void aug_auto_observe(aug_auto *a, double ms, double w, int64_t na)
         a->a_first = mean2(a->a_first, ms);
         a->w_first = a->w_first > 0 ? 0.5 * (a->w_first + w) : w;
     } else if (w > 2 * a->w1 && w > a->w1) {
-        /* S2 grew: the ms per flop from the first step on */
+        /* S2 grew: the ms per flop from the first step on, within what a
+           core's dense LU can take (the growth of the memo and the reach
+           counts in it too) */
         double c = (ms - a->a1) / (w - a->w1);
-        a->c_flop = c > 0 ? c : 0;
+        a->c_flop = c < AUG_AUTO_CFLOP_MIN ? AUG_AUTO_CFLOP_MIN : c > AUG_AUTO_CFLOP_MAX ? AUG_AUTO_CFLOP_MAX : c;
     }
     a->a_last = ms, a->w_last = w, a->na = na;
     if (a->on_base < AUG_AUTO_WARM) {
         a->warm_sum += ms;
     } else {
-        if (a->on_base == AUG_AUTO_WARM || ms < a->a_ref) a->a_ref = ms;
-        if (a->on_base == AUG_AUTO_WARM) a->t_warm = mean2(a->t_warm, a->warm_sum - AUG_AUTO_WARM * ms);
-        a->excess += ms - a->a_ref;
+        /* E from the least-squares trend a_j = a_ref + g (j - WARM) of the
+           steady steps (their noise cancels; a sum of a_j - min a_j would
+           grow with it): sum_j g (j - WARM) */
+        double j = a->on_base - AUG_AUTO_WARM;
+        if (j == 0) a->a_ref = ms, a->t_warm = mean2(a->t_warm, a->warm_sum - AUG_AUTO_WARM * ms);
+        a->ls[0] += 1, a->ls[1] += j, a->ls[2] += ms, a->ls[3] += j * j, a->ls[4] += j * ms;
+        double den = a->ls[0] * a->ls[3] - a->ls[1] * a->ls[1];
+        double g = a->ls[0] >= 3 && den > 0 ? (a->ls[0] * a->ls[4] - a->ls[1] * a->ls[2]) / den : 0;
+        a->excess = g > 0 ? g * a->ls[1] : 0;
     }
     a->on_base++;
 }
@@ -149,4 +157,5 @@ void aug_auto_rebased(aug_auto *a)
     a->na = 0;
     a->excess = a->warm_sum = 0;
     a->a_ref = a->a_last = a->w_last = a->a1 = a->w1 = 0;
+    memset(a->ls, 0, sizeof a->ls);
 }

@@ -490,6 +490,7 @@ static void auto_supernodal(void) { auto_equals_fresh(0, 74, 8, 8, 10); }
 typedef struct {
     double t_ref, a0, slope, c;
     int64_t s;
+    double noise; /* + noise * (0, 1/4, .. 1) by step, a fixed pattern */
 } synth;
 
 static double synth_auto(const synth *y, int n, int *nref, double *all_amps)
@@ -504,6 +505,7 @@ static double synth_auto(const synth *y, int n, int *nref, double *all_amps)
         *all_amps += y->a0 + y->slope * t + y->c * aug_s2_flops(0, y->s * (t + 1), 0);
         if (aug_auto_decide(&a, 0, y->s) == AUG_AUTO_AMPS) {
             double w = aug_s2_flops(0, y->s * (j + 1), 0), ms = y->a0 + y->slope * j + y->c * w;
+            ms += y->noise * (double)((t * 7919) % 5) / 4;
             aug_auto_observe(&a, ms, w, y->s * (j + 1));
             tot += ms, j++;
         } else {
@@ -516,7 +518,8 @@ static double synth_auto(const synth *y, int n, int *nref, double *all_amps)
 
 /* dear AMPS steps (5x a re-factorization): refactor every step after the
    first measured AMPS step, no probe while they are predicted > 2x dearer;
-   cheap steps: AMPS throughout; S2 growing with the cube of its order (the
+   cheap steps: AMPS throughout, also with a noise of 2/3 their time (the
+   growth is the trend's, not the sum over the cheapest); S2 growing with the cube of its order (the
    2-D refined square): re-factored before a step costs more than t_ref, auto
    well below both fixed methods; linear growth: cycles, below both */
 static void auto_policy_synthetic(void)
@@ -524,22 +527,27 @@ static void auto_policy_synthetic(void)
     const int n = 60;
     int nref;
     double amps;
-    synth dear = {10, 50, 0, 1e-7, 100};
+    synth dear = {10, 50, 0, 1e-7, 100, 0};
     double tot = synth_auto(&dear, n, &nref, &amps);
     printf("# dear: auto %.1f ms, %d re-factorizations; refactor %.1f, amps %.1f\n", tot, nref, n * dear.t_ref, amps);
     T_CHECK(tot <= 1.1 * n * dear.t_ref, "dear AMPS: auto %g vs refactor %g", tot, n * dear.t_ref);
     T_CHECK(nref == n - 1, "dear AMPS: %d re-factorizations in %d steps", nref, n);
-    synth cheap = {100, 1, 0.01, 0, 10};
+    synth cheap = {100, 1, 0.01, 0, 10, 0};
     tot = synth_auto(&cheap, n, &nref, &amps);
     printf("# cheap: auto %.1f ms, %d re-factorizations; refactor %.1f, amps %.1f\n", tot, nref, n * cheap.t_ref, amps);
     T_CHECK(nref == 0 && tot <= 1.1 * amps, "cheap AMPS: auto %g (%d re-factorizations) vs amps %g", tot, nref,
             amps);
-    synth cube = {20, 10, 0, 1e-7, 200};
+    synth cube = {20, 10, 0, 1e-7, 200, 0};
     tot = synth_auto(&cube, n, &nref, &amps);
     printf("# cube: auto %.1f ms, %d re-factorizations; refactor %.1f, amps %.1f\n", tot, nref, n * cube.t_ref, amps);
     T_CHECK(tot <= 0.9 * n * cube.t_ref && tot <= 0.1 * amps && nref >= n / 4,
             "S2 growth: auto %g (%d re-factorizations) vs refactor %g, amps %g", tot, nref, n * cube.t_ref, amps);
-    synth lin = {20, 1, 1, 0, 10};
+    /* no growth, a noise of 2/3 the step: never re-factored */
+    synth noisy = {100, 3, 0, 0, 10, 2};
+    tot = synth_auto(&noisy, n, &nref, &amps);
+    printf("# noisy: auto %.1f ms, %d re-factorizations; refactor %.1f\n", tot, nref, n * noisy.t_ref);
+    T_CHECK(nref == 0, "noisy AMPS steps: %d re-factorizations", nref);
+    synth lin = {20, 1, 1, 0, 10, 0};
     tot = synth_auto(&lin, n, &nref, &amps);
     printf("# lin: auto %.1f ms, %d re-factorizations; refactor %.1f, amps %.1f\n", tot, nref, n * lin.t_ref, amps);
     T_CHECK(tot <= 0.6 * n * lin.t_ref && tot <= 0.3 * amps && nref >= 3,
