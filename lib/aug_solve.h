@@ -564,7 +564,7 @@ enum {
 /* the ms per S2 flop assumed until one is fitted (10 Gflop/s, one core of
    dense LU on this kind of machine) */
 #define AUG_AUTO_CFLOP_PRIOR 1e-7
-#define AUG_AUTO_CFLOP_MIN 2e-8 /* 50 Gflop/s */
+#define AUG_AUTO_CFLOP_MIN 1e-7 /* 10 Gflop/s: no faster than the prior */
 #define AUG_AUTO_CFLOP_MAX 2e-6 /* 0.5 Gflop/s */
 typedef struct aug_auto {
     int bg_allowed;        /* a second core: background jobs may run */
