@@ -1,7 +1,8 @@
 #!/bin/sh
 # solve-aug on real meshes (issue 15 item 7): per scene an oblique planar cut
-# solved by each method in its own run (auto, the default; amps; refactor;
-# rowupdate; METHODS may add pcg), each step timed next to one full solve of
+# solved by each method in its own run (auto, the default; amps; ampsbg, that
+# is amps --background; refactor; rowupdate; METHODS may add pcg), each step
+# timed next to one full solve of
 # the same factor (--time-full), so the ratios come from one run:
 #  - the organs of ../shared/meshes, only those present (MESHES may point
 #    elsewhere): brain + CSF (23.8k nodes, two materials), bunny (8k), liver
@@ -12,28 +13,31 @@
 #    (phase breakdown per step) on the brain: organs_brain_rate.png,
 #    organs_brain_phases.png;
 #  - the thesis's 2-D square, two crossing Bezier cuts in 8 steps, refined to
-#    20 degrees (refine --min-angle 20), also amps --background;
+#    20 degrees (refine --min-angle 20; refactor every step wins), and the same
+#    cuts in SQLONG (32) shorter steps, square2d_long (AMPS wins);
 #  - the beam and brick cells split into 5 tets (bench/tet5.py, the split the
 #    papers' counts imply) next to gmsh's 6-tet split.
 # Per-step CSVs bench/out/organs_SCENE_KIND_METHOD.csv; medians and ratios in
-# bench/out/organs_summary.csv (organs_tools.py summary); PNGs with gnuplot.
-# QUICK=1: liver and sphere3 only, 8 + 4 steps, the 2-D square in 4 steps,
+# bench/out/organs_summary.csv (organs_tools.py summary: medians, totals over
+# the steps, auto's total over the best fixed method's); PNGs with gnuplot.
+# QUICK=1: liver and sphere3 only, 8 + 4 steps, the 2-D square in 4 and 16 steps,
 # beam h=64 and brick N=8 (a few minutes; the full run: beam h=256, bricks N=16
-# and N=20, the sizes of the goals of issue 15); SCENES, STEPS1, STEPSM, METHODS,
-# SPLIT_SCENES may be set.
+# and N=20, the sizes of the goals of issue 15); SCENES, STEPS1, STEPSM, SQSTEPS,
+# SQLONG, METHODS, SPLIT_SCENES may be set (SCENES=none, SPLIT_SCENES=none and
+# SQUARE=0 skip the organs, the split scenes and both squares).
 cd "$(dirname "$0")/.." || exit 2
 B=bin; S=build/scenes; O=bench/out; T=${TMPDIR:-/tmp}/organs.$$; mkdir -p $O $T
 trap 'rm -rf $T' EXIT
 MESHES=${MESHES:-../shared/meshes}
-METHODS=${METHODS:-auto,amps,refactor,rowupdate}
+METHODS=${METHODS:-auto,amps,ampsbg,refactor,rowupdate}
 TOOLS="python3 bench/organs_tools.py"
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 if [ "${QUICK:-0}" = 1 ]; then
-    SCENES=${SCENES:-"liver sphere3"}; STEPS1=${STEPS1:-8}; STEPSM=${STEPSM:-4}; SQSTEPS=${SQSTEPS:-4}
+    SCENES=${SCENES:-"liver sphere3"}; STEPS1=${STEPS1:-8}; STEPSM=${STEPSM:-4}; SQSTEPS=${SQSTEPS:-4}; SQLONG=${SQLONG:-16}
     SPLIT_SCENES=${SPLIT_SCENES:-"beam_h64 brick_n8"}
 fi
 SCENES=${SCENES:-"brain bunny liver sphere3"}
-STEPS1=${STEPS1:-64}; STEPSM=${STEPSM:-16}; SQSTEPS=${SQSTEPS:-8}
+STEPS1=${STEPS1:-64}; STEPSM=${STEPSM:-16}; SQSTEPS=${SQSTEPS:-8}; SQLONG=${SQLONG:-32}
 SPLIT_SCENES=${SPLIT_SCENES:-"beam_h256 brick_n16 brick_n20"}
 for t in meshload factor cut refine solve-aug stats; do
     [ -x $B/$t ] || { echo "organs.sh: $B/$t missing (make first)" >&2; exit 1; }
@@ -48,6 +52,7 @@ solve_all() {
     s_files=""
     for s_m in $(echo $METHODS | tr , ' ') "$@"; do
         s_name=${s_m%%:*}; s_opts=""; case $s_m in *:*) s_opts=${s_m#*:};; esac
+        [ $s_m = ampsbg ] && s_opts="--method amps --background"
         [ -n "$s_opts" ] || s_opts="--method $s_m"
         s_f=$O/organs_${s_sc}_${s_kind}_$s_name.csv
         # shellcheck disable=SC2086
@@ -87,18 +92,22 @@ for sc in $SCENES; do
     liver) organ liver liver_sofa_mor_4293n.msh --default-material E=5000,nu=0.47,rho=1000;;
     sphere3) organ sphere3 sphere3_simnibs_4556n.msh --material sphere_r85:E=3000,nu=0.45,rho=1000 \
                  --material shell_r85_r90:E=3,nu=0.49,rho=1000 --material shell_r90_r95:E=10000,nu=0.47,rho=1000;;
+    none) ;;
     *) echo "organs.sh: unknown scene $sc" >&2; status=1;;
     esac
 done
 
 # the 2-D square of the thesis, two crossing cubic Bezier cuts, refined
-make --no-print-directory -s $S/square.msh > /dev/null 2>&1
-if [ -f $S/square.msh ]; then
+[ "${SQUARE:-1}" = 1 ] && make --no-print-directory -s $S/square.msh > /dev/null 2>&1
+if [ "${SQUARE:-1}" = 1 ] && [ -f $S/square.msh ]; then
     python3 bench/refine_tools.py path intersecting 1 $T/p.path &&
-    $B/meshload $S/square.msh --fix fixed --load top:0,1 | $B/factor --no-cond |
-        $B/cut --path $T/p.path --steps $SQSTEPS --detached pin | $B/refine --min-angle 20 > $T/sq.aug &&
-        solve_all square2d $T/sq.aug refined "ampsbg:--method amps --background" ||
+    $B/meshload $S/square.msh --fix fixed --load top:0,1 | $B/factor --no-cond > $T/sqf.aug ||
         { echo "organs.sh: square2d failed" >&2; status=1; }
+    for sq in square2d:$SQSTEPS square2d_long:$SQLONG; do
+        $B/cut --path $T/p.path --steps ${sq#*:} --detached pin < $T/sqf.aug | $B/refine --min-angle 20 > $T/sq.aug &&
+            solve_all ${sq%%:*} $T/sq.aug refined ||
+            { echo "organs.sh: ${sq%%:*} failed" >&2; status=1; }
+    done
 fi
 
 # 5-tet against 6-tet cells: the same scene, cut and load on both splits
@@ -106,6 +115,7 @@ for sc in $SPLIT_SCENES; do
     case $sc in
     beam_h*) kind=beam size=${sc#beam_h} load="tip:0,1e-3,0" plane="0,1,0,2";;
     brick_n*) kind=brick size=${sc#brick_n} load="top:0,0,-1" plane="1,0,0,0.5";;
+    none) continue;;
     *) echo "organs.sh: unknown split scene $sc" >&2; status=1; continue;;
     esac
     make --no-print-directory -s $S/$sc.msh > /dev/null 2>&1

@@ -255,6 +255,7 @@ typedef struct aug_schur {
     int detsign;
     int singular;
     int64_t nnzE;
+    double flops;        /* of the last aug_schur_factor (formed columns and LU) */
 } aug_schur;
 
 void aug_schur_init(aug_schur *s);
@@ -381,18 +382,22 @@ typedef struct aug_refactor {
     int kept;            /* 1 if the factor's numeric storage was kept */
     int singular;
     cholmod_dense *X, *Y, *E; /* cholmod_solve2 workspaces */
+    const void *given;   /* the base aug_refactor_take_base gave its factor to */
 } aug_refactor;
 void aug_refactor_init(aug_refactor *r);
 void aug_refactor_free(aug_refactor *r, cholmod_common *cm);
 /* the fill-reducing ordering (perm[k]: original index at position k) of the
    first n DOFs to extend from now on; 0, or -1 out of memory */
 int aug_refactor_order(aug_refactor *r, const int32_t *perm, int64_t n);
-/* P K_t P' = L L' as in aug_refactor_step (extended ordering), made the
-   base of step (aug_base_new: its simplicial LDL', a_b = K_t^-1 f_t); NULL
-   with r->singular = 1 when K_t is not positive definite (e not set), NULL
-   with e on other failures. times: assemble, analyze, factor, base. */
-aug_base *aug_refactor_base(aug_refactor *r, const aug_cutmat *m, int32_t step, double times[4],
-                            cholmod_common *cm, aug_err *e);
+/* P K_t P' = L L' by the step of aug_refactor_step, the factor moved into a
+   new base of step (aug_base_new: Ls = L, its simplicial LDL', a_b = K_t^-1
+   f_t); old (the base replaced, or NULL) hands its supernodal factor back
+   first when only the caller holds it (its storage, and its symbolic
+   analysis when r made it). NULL with r->singular = 1 when K_t is not
+   positive definite (e not set), NULL with e on other failures. times:
+   assemble, analyze, factor, base. */
+aug_base *aug_refactor_take_base(aug_refactor *r, const aug_cutmat *m, int32_t step, aug_base *old,
+                                 double times[4], cholmod_common *cm, aug_err *e);
 /* times: assemble, analyze, factor, solve */
 int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double times[4],
                       cholmod_common *cm, aug_err *e);
@@ -558,32 +563,54 @@ enum {
     AUG_AUTO_SINGULAR,     /* refactor: AMPS called the step singular */
     AUG_AUTO_SWAPPED       /* AMPS on the background factor swapped in this step */
 };
-/* AMPS steps on a new base that build its state (warm-up); after this many
-   re-factorizations in a row chosen for AUG_AUTO_FIRST_DEARER one base is
-   measured again; the prior of a re-factorization step, in full solves of
-   the base, until one is measured */
+/* AMPS steps on a new base whose excess over the cheapest later step counts
+   as its warm-up; after this many re-factorizations in a row chosen because
+   the first AMPS step on a new base was predicted dearer (FIRST_DEARER, by
+   less than twice) one AMPS step is measured again (the interval doubling
+   after each); the prior of a re-factorization step, in full
+   solves of the base, until one is measured */
 #define AUG_AUTO_WARM 2
 #define AUG_AUTO_PROBE 8
 #define AUG_AUTO_PRIOR 50
+/* the ms per S2 flop assumed until one is fitted (10 Gflop/s, one core of
+   dense LU on this kind of machine) */
+#define AUG_AUTO_CFLOP_PRIOR 1e-7
+#define AUG_AUTO_CFLOP_MIN 1e-7 /* 10 Gflop/s: no faster than the prior */
+#define AUG_AUTO_CFLOP_MAX 2e-6 /* 0.5 Gflop/s */
 typedef struct aug_auto {
     int bg_allowed;        /* a second core: background jobs may run */
     int on_base;           /* AMPS steps on the current base */
-    double a_warm;         /* a warm-up AMPS step (running mean), ms */
+    int64_t na;            /* order of S2 after the last AMPS step on the base */
+    double a1, w1;         /* the first AMPS step on the base: ms, S2 flops */
+    double a_last, w_last; /* the last AMPS step on the base: ms, S2 flops */
+    double a_first, w_first; /* first AMPS steps on the bases (running means) */
+    double c_flop;         /* ms per S2 flop, fitted on the last base where S2 grew
+                              (AUG_AUTO_CFLOP_PRIOR until then), clamped to
+                              AUG_AUTO_CFLOP_MIN .. MAX */
     double warm_sum;       /* the warm-up steps on this base, ms */
     double t_warm;         /* their excess over a_ref (running mean), ms */
-    double a_ref, a_last;  /* min and last steady AMPS step on the base, ms */
-    double a_min_prev;     /* a_ref of the last base with steady steps, ms */
-    double excess;         /* sum of (a_j - a_ref) on the base, ms */
+    double a_ref;          /* the first steady AMPS step on the base, ms */
+    double ls[5];          /* sums of 1, j, a_j, j^2, j a_j over the steady steps */
+    double excess;         /* the growth's cost on the base (trend over a_ref), ms */
     double t_factor;       /* a re-factorization step (running mean), ms; 0: none yet */
     double t_prior;        /* its prior before one is measured, ms */
     int nsync_run;         /* re-factorizations in a row for FIRST_DEARER */
+    int probe_every;       /* ... after which one AMPS step is measured again */
+    int nbase;             /* bases made since the session's (re-factored or swapped in) */
     int choice, reason, want_bg;
-    double est_amps, est_factor; /* the estimates the choice compared */
+    double est_amps, est_factor, w_next; /* the estimates the choice compared,
+                                            the S2 flops predicted for the step */
 } aug_auto;
 void aug_auto_init(aug_auto *a, int bg_allowed);
-int aug_auto_decide(aug_auto *a, int bg_running);
-void aug_auto_observe(aug_auto *a, double ms);
+/* the choice for the next step; s_step: the positions the step's update adds
+   to S2 (its m + k) */
+int aug_auto_decide(aug_auto *a, int bg_running, int64_t s_step);
+/* the step's measured time ms and, for AMPS, its S2 flops and order */
+void aug_auto_observe(aug_auto *a, double ms, double s2_flops, int64_t na);
 void aug_auto_rebased(aug_auto *a);
+/* the flops of the LU of S2 brought from order n0 to n1, re-eliminated from
+   column k0 (0: from scratch), formed columns included (amps_schur.c) */
+double aug_s2_flops(int64_t n0, int64_t n1, int64_t k0);
 
 /* ---- the session (solver.c) -------------------------------------------- */
 

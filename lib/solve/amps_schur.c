@@ -300,10 +300,22 @@ static int colsums(aug_schur *s, const aug_memo *M, const s2_work *W, const unsi
    updated from the first changed column (update_lu, else full_lu), the column
    sums of |S2| kept when rcond is estimated. singular: LU breakdown, rcond
    (dgecon, 1-norm) < rcond_min when estimated, or det S2 < 0. */
+/* the flops of bringing the LU of S2 from order n0 to n1, re-eliminated
+   from column k0 (update_lu; k0 = 0: full_lu): the nt = n1 - k0 columns
+   formed (2 n1 nt), L21 and U12 (k0^2 (n1 - n0) + k0^2 nt), the trailing
+   update (2 nt^2 k0) and its LU (2/3 nt^3) */
+double aug_s2_flops(int64_t n0, int64_t n1, int64_t k0)
+{
+    double nt = (double)(n1 - k0), kk = (double)k0;
+    if (k0 == 0) n0 = 0;
+    return 2.0 * (double)n1 * nt + kk * kk * ((double)(n1 - n0) + nt) + 2.0 * nt * nt * kk + 2.0 / 3.0 * nt * nt * nt;
+}
+
 int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double rcond_min,
                      aug_err *e)
 {
     s->singular = 0;
+    s->flops = 0;
     s->rcond = NAN;
     s->detsign = 1;
     if (c->napply < s->stamp || s->na > c->ns) aug_schur_free(s); /* a different cum */
@@ -330,7 +342,8 @@ int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double r
         goto done;
     }
     int info = k0 > 0 ? update_lu(s, M, &W, n0, n1, k0) : full_lu(s, M, &W, n1);
-    if (info == -2) info = full_lu(s, M, &W, n1);
+    s->flops = aug_s2_flops(n0, n1, k0);
+    if (info == -2) info = full_lu(s, M, &W, n1), s->flops += aug_s2_flops(0, n1, 0);
     free(W.wq), free(W.wv);
     if (info < 0) return aug_err_set(e, AUG_EUSAGE, -1, "UPDT", "dgetrf: argument %d", -info);
     s->stamp = c->napply;

@@ -46,6 +46,57 @@ static int to_simplicial_ldl(cholmod_factor *L, cholmod_common *cm)
     return L->itype == CHOLMOD_INT && L->xtype == CHOLMOD_REAL ? 0 : -1;
 }
 
+/* The simplicial LDL' of a supernodal L L' (rows increasing within each
+   supernode, as CHOLMOD writes them), L left as it is: column j = k1 + jj of
+   supernode s holds rows Ls[pi + jj ..] and values Lx[px + jj*nsrow + jj ..],
+   D(j,j) = L(j,j)^2, L_ldl(i,j) = L(i,j) / L(j,j) (what cholmod_change_factor
+   computes, [CHOLMOD]; lib/fem/factor_rec.c write_supernodal), built in place
+   of cholmod_copy_factor + cholmod_change_factor (one pass, no copy of L).
+   NULL when out of memory or the rows are out of order (the caller copies). */
+static cholmod_factor *simplicial_of(const cholmod_factor *L, cholmod_common *cm)
+{
+    int64_t n = (int64_t)L->n, ns = (int64_t)L->nsuper, nnz = 0;
+    const int *Super = L->super, *Lpi = L->pi, *Lpx = L->px, *Ls = L->s;
+    const double *Lx = L->x;
+    for (int64_t s = 0; s < ns; s++) {
+        int k1 = Super[s], k2 = Super[s + 1], psi = Lpi[s], nsrow = Lpi[s + 1] - psi;
+        for (int jj = 0; jj < k2 - k1; jj++)
+            if (Ls[psi + jj] != k1 + jj) return NULL;
+        for (int q = psi + 1; q < psi + nsrow; q++)
+            if (Ls[q] <= Ls[q - 1]) return NULL;
+        for (int jj = 0; jj < k2 - k1; jj++) nnz += nsrow - jj;
+    }
+    cholmod_factor *S = cholmod_allocate_factor((size_t)n, cm);
+    if (!S) return NULL;
+    S->ordering = L->ordering;
+    int *Perm = S->Perm, *CC = S->ColCount;
+    const int *P = L->Perm;
+    for (int64_t s = 0; s < ns; s++)
+        for (int j = Super[s]; j < Super[s + 1]; j++) CC[j] = Lpi[s + 1] - Lpi[s] - (j - Super[s]);
+    for (int64_t k = 0; k < n; k++) Perm[k] = P ? P[k] : (int)k;
+    if (!cholmod_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, S, cm) ||
+        (S->nzmax < (size_t)nnz && !cholmod_reallocate_factor((size_t)nnz, S, cm))) {
+        cholmod_free_factor(&S, cm);
+        return NULL;
+    }
+    int *Sp = S->p, *Si = S->i, *Snz = S->nz;
+    double *Sx = S->x;
+    int64_t t = 0;
+    for (int64_t s = 0; s < ns; s++) {
+        int k1 = Super[s], k2 = Super[s + 1], psi = Lpi[s], nsrow = Lpi[s + 1] - psi;
+        for (int jj = 0; jj < k2 - k1; jj++) {
+            const double *x = Lx + Lpx[s] + (size_t)jj * nsrow + jj;
+            double ljj = x[0];
+            Sp[k1 + jj] = (int)t, Snz[k1 + jj] = nsrow - jj;
+            Si[t] = Ls[psi + jj], Sx[t++] = ljj * ljj;
+            for (int q = 1; q < nsrow - jj; q++) Si[t] = Ls[psi + jj + q], Sx[t++] = x[q] / ljj;
+        }
+    }
+    Sp[n] = (int)t;
+    S->minor = L->minor;
+    return S;
+}
+
 static void attach(aug_base *b)
 {
     cholmod_factor *L = b->L;
@@ -108,8 +159,14 @@ aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double
     b->L = L;
     b->step = step;
     b->refs = 1;
-    /* a supernodal L becomes Ls as it is; the simplicial copy shares its permutation */
-    if (L->is_super && (int64_t)L->n >= AUG_SUPERNODAL_MIN) {
+    /* a supernodal L becomes Ls as it is (moved, not copied); the simplicial
+       LDL' is built beside it with its permutation */
+    if (L->is_super && (int64_t)L->n >= AUG_SUPERNODAL_MIN && L->xtype == CHOLMOD_REAL &&
+        L->minor == L->n) {
+        cholmod_factor *S = simplicial_of(L, cm);
+        if (S) b->Ls = L, b->L = L = S;
+    }
+    if (L->is_super && (int64_t)L->n >= AUG_SUPERNODAL_MIN && !b->Ls) {
         b->Ls = cholmod_copy_factor(L, cm);
         if (!b->Ls) goto nomem;
     }

@@ -173,23 +173,20 @@ static int reuse_values(cholmod_factor *L, cholmod_factor *old, cholmod_common *
     return old != NULL;
 }
 
-/* P K_t P' = L D L' (or L L') by CHOLMOD ([CHOLMOD]): a new symbolic
-   analysis (analyze) only when the pattern changed, cholmod_factorize every
-   step, x = K_t^-1 f_t; not positive definite: singular = 1 and x untouched */
-int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double times[4],
-                      cholmod_common *cm, aug_err *e)
+/* The numeric factor of K in r->L: a new symbolic analysis (analyze) only
+   when the pattern changed, its storage kept (reuse_values),
+   cholmod_factorize every step; 1 when K is not positive definite (the
+   symbolic analysis kept, the values garbage), 0, or an error code. times[1]
+   analyze, times[2] factor. */
+static int factor_step(aug_refactor *r, cholmod_sparse *K, double times[4], cholmod_common *cm,
+                       aug_err *e)
 {
-    double t0 = 1e3 * aug_now();
-    r->singular = 0;
-    cholmod_sparse *K = aug_cutmat_sparse(m, 0, cm);
-    if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (K_t)");
     double t1 = 1e3 * aug_now();
     r->analyzed = r->reordered = 0, r->kept = 1;
     if (!same_pattern(r, K)) {
         cholmod_factor *L = analyze(r, K, cm);
         if (!L || keep_pattern(r, K)) {
             if (L) cholmod_free_factor(&L, cm);
-            cholmod_free_sparse(&K, cm);
             r->n = 0;
             return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_analyze failed");
         }
@@ -200,20 +197,35 @@ int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double ti
     }
     double t2 = 1e3 * aug_now();
     int ok = cholmod_factorize(K, r->L, cm);
-    cholmod_free_sparse(&K, cm);
-    double t3 = 1e3 * aug_now();
-    times[0] = t1 - t0, times[1] = t2 - t1, times[2] = t3 - t2, times[3] = 0;
+    times[1] = t2 - t1, times[2] = 1e3 * aug_now() - t2;
     if (!ok && cm->status != CHOLMOD_NOT_POSDEF)
         return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_factorize failed (%d)", cm->status);
-    if (cm->status == CHOLMOD_NOT_POSDEF || r->L->minor < r->L->n) {
+    return cm->status == CHOLMOD_NOT_POSDEF || r->L->minor < r->L->n;
+}
+
+/* P K_t P' = L D L' (or L L') by CHOLMOD ([CHOLMOD]) through factor_step,
+   x = K_t^-1 f_t; not positive definite: singular = 1 and x untouched */
+int aug_refactor_step(aug_refactor *r, const aug_cutmat *m, double *u, double times[4],
+                      cholmod_common *cm, aug_err *e)
+{
+    double t0 = 1e3 * aug_now();
+    r->singular = 0;
+    times[3] = 0;
+    cholmod_sparse *K = aug_cutmat_sparse(m, 0, cm);
+    if (!K) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (K_t)");
+    times[0] = 1e3 * aug_now() - t0;
+    int rc = factor_step(r, K, times, cm, e);
+    cholmod_free_sparse(&K, cm);
+    if (rc < 0 || rc > 1) return rc;
+    if (rc == 1) { /* the symbolic analysis kept, the numeric values garbage */
         r->singular = 1;
-        /* keep the symbolic analysis; the numeric values are garbage */
         return 0;
     }
+    double t3 = 1e3 * aug_now();
     double *f = aug_malloc((size_t)m->cum.n * sizeof *f);
     if (!f) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     aug_cutmat_rhs(m, f);
-    int rc = aug_refactor_solve(r, f, u, cm, e);
+    rc = aug_refactor_solve(r, f, u, cm, e);
     free(f);
     times[3] = 1e3 * aug_now() - t3;
     return rc;
@@ -232,18 +244,28 @@ int aug_refactor_solve(aug_refactor *r, const double *rhs, double *x, cholmod_co
     return 0;
 }
 
-/* K_t factored on the extended ordering (analyze) into a new base
-   (aug_base_new takes the factor: simplicial LDL' for AMPS's sparse solves,
-   the supernodal copy for full back-substitutions, a_b = K_t^-1 f_t): the
-   synchronous re-factorization of --method auto (paper 000 sec. 3.6 done in
-   the foreground). The symbolic factor is not kept: the next call analyses. */
-aug_base *aug_refactor_base(aug_refactor *r, const aug_cutmat *m, int32_t step, double times[4],
-                            cholmod_common *cm, aug_err *e)
+/* The step of aug_refactor_step (factor_step: the extended ordering, the
+   memory kept, numeric-only when the pattern holds) whose factor is then
+   moved into a new base (aug_base_new: L as its supernodal Ls, the simplicial
+   LDL' built beside it, a_b = K_t^-1 f_t): the synchronous re-factorization
+   of --method auto (paper 000 sec. 3.6 done in the foreground), as dear as a
+   refactor step. The base being replaced (old, when only the caller holds
+   it) hands its supernodal factor back first: its symbolic analysis when r
+   made it (the pattern check of factor_step holds), else its storage; old
+   keeps its simplicial LDL' and solves without Ls from then on (it is
+   released on success, and stays the base only when K_t is singular). */
+aug_base *aug_refactor_take_base(aug_refactor *r, const aug_cutmat *m, int32_t step, aug_base *old,
+                                 double times[4], cholmod_common *cm, aug_err *e)
 {
     double t0 = 1e3 * aug_now();
     r->singular = 0;
-    if (r->L) cholmod_free_factor(&r->L, cm);
-    r->n = 0; /* no pattern kept */
+    if (old && old->refs == 1 && old->Ls && !r->L) {
+        if (old != r->given) r->n = 0; /* not r's analysis: only its storage */
+        r->L = old->Ls, old->Ls = NULL;
+        free(old->sqrtd), free(old->super_of);
+        old->sqrtd = NULL, old->super_of = NULL;
+    }
+    r->given = NULL;
     cholmod_sparse *K = aug_cutmat_sparse(m, 0, cm);
     double *f = aug_malloc((size_t)(m->cum.n + 1) * sizeof *f);
     if (!K || !f) {
@@ -253,24 +275,21 @@ aug_base *aug_refactor_base(aug_refactor *r, const aug_cutmat *m, int32_t step, 
         return NULL;
     }
     aug_cutmat_rhs(m, f);
-    double t1 = 1e3 * aug_now();
-    cholmod_factor *L = analyze(r, K, cm);
-    double t2 = 1e3 * aug_now();
-    aug_base *b = NULL;
-    if (!L) {
-        aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_analyze failed");
-    } else if (!cholmod_factorize(K, L, cm) || cm->status == CHOLMOD_NOT_POSDEF || L->minor < L->n) {
-        if (cm->status == CHOLMOD_NOT_POSDEF || L->minor < L->n) r->singular = 1;
-        else aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_factorize failed (%d)", cm->status);
-        cholmod_free_factor(&L, cm);
-    }
+    times[0] = 1e3 * aug_now() - t0;
+    int rc = factor_step(r, K, times, cm, e);
     double t3 = 1e3 * aug_now();
-    if (L) {
-        b = aug_base_new(L, K, f, step, cm, e);
-        if (!b && e->code == AUG_ESINGULAR) r->singular = 1;
+    aug_base *b = NULL;
+    if (rc == 1) {
+        r->singular = 1;
+    } else if (rc == 0) {
+        cholmod_factor *L = r->L;
+        r->L = NULL; /* moved: aug_base_new takes it, or frees it on failure */
+        if ((b = aug_base_new(L, K, f, step, cm, e))) r->given = b;
+        else if (e->code == AUG_ESINGULAR) r->singular = 1;
+        if (!b) r->n = 0;
     }
     cholmod_free_sparse(&K, cm);
     free(f);
-    times[0] = t1 - t0, times[1] = t2 - t1, times[2] = t3 - t2, times[3] = 1e3 * aug_now() - t3;
+    times[3] = 1e3 * aug_now() - t3;
     return b;
 }

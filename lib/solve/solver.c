@@ -89,6 +89,15 @@ struct aug_solver {
     aug_par *par;        /* --threads >= 2: the two-core L^-T of AMPS (aug_par.h) */
 };
 
+/* nnz(L) of the base's factor: the fill of K0's ordering, which the
+   re-factorizations' extended orderings are held to (AUG_REFACTOR_FILL) */
+static double base_lnz(const aug_base *b)
+{
+    double nz = 0;
+    for (int64_t j = 0; j < b->n; j++) nz += b->Lnz[j];
+    return nz;
+}
+
 aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_factor *L0,
                            const aug_solver_opts *o, cholmod_common *cm, aug_err *e)
 {
@@ -141,12 +150,14 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
             aug_err_set(e, AUG_ENOMEM, -1, "FACT", "out of memory");
             goto fail;
         }
+        s->au_rf.lnz_ref = base_lnz(s->base);
     }
     /* refactor extends the ordering of K0 (README: the baselines' configuration) */
     if (s->use[AUG_M_REFACTOR] && aug_refactor_order(&s->rf, s->base->perm, s->base->n)) {
         aug_err_set(e, AUG_ENOMEM, -1, "FACT", "out of memory");
         goto fail;
     }
+    s->rf.lnz_ref = base_lnz(s->base);
     if (s->use[AUG_M_GMRES]) {
         s->gm = aug_gmres_new(o->gmres_prec, o->restart, o->maxit, o->tol, e);
         if (!s->gm || aug_gmres_set_base(s->gm, s->base, s->cut.K0, e)) goto fail;
@@ -567,11 +578,11 @@ static void as_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_kv 
 
 /* --method auto: the step by the choice of the cost model (auto_policy.c),
    AMPS on the base or a synchronous re-factorization of K_t that becomes the
-   base (aug_refactor_base; also when AMPS calls S2 singular); the background
+   base (aug_refactor_take_base; also when AMPS calls S2 singular); the background
    job, when the model asks for it, starts after the step */
 static int auto_rebase(aug_solver *s, step_res *r, aug_err *e)
 {
-    aug_base *nb = aug_refactor_base(&s->au_rf, &s->cut, s->step, r->t, s->cm, e);
+    aug_base *nb = aug_refactor_take_base(&s->au_rf, &s->cut, s->step, s->base, r->t, s->cm, e);
     if (!nb) {
         if (!s->au_rf.singular) return e->code;
         r->sing = 1;
@@ -593,7 +604,7 @@ static int auto_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
     int bgr = s->bg && aug_bg_running(s->bg);
     s->amps.relres_h = NAN; /* a re-factoring step leaves no AMPS residual */
-    if (aug_auto_decide(&s->au, bgr) == AUG_AUTO_AMPS) {
+    if (aug_auto_decide(&s->au, bgr, (int64_t)q->u->m + q->u->k) == AUG_AUTO_AMPS) {
         if (s->au_swapped) s->au.reason = AUG_AUTO_SWAPPED;
         int rc = amps_step(s, q, r, e);
         if (rc || !r->sing || bgr) return rc; /* singular with a job running: the fallback */
@@ -614,7 +625,10 @@ static void auto_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
     put(st, "est_factor_ms", a->est_factor);
     put(st, "excess_ms", a->excess);
     put(st, "bg_start", a->want_bg);
+    put(st, "est_s2_flops", a->w_next);
+    put(st, "base_no", a->nbase + (a->choice == AUG_AUTO_REFACTOR));
     if (a->choice == AUG_AUTO_AMPS) {
+        put(st, "s2_flops", s->amps.schur.flops);
         amps_stats(s, r, st, tm);
     } else {
         put(st, "reordered", s->au_rf.reordered);
@@ -751,7 +765,7 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
         if (nref) put(tm, "refine", 1e3 * aug_now() - tr);
     }
     double total = 1e3 * aug_now() - t0;
-    if (m == AUG_M_AUTO && r.ran) aug_auto_observe(&s->au, total);
+    if (m == AUG_M_AUTO && r.ran) aug_auto_observe(&s->au, total, s->amps.schur.flops, s->amps.schur.na);
     put(st, "iters", r.iters);
     put(st, "refine", nref);
     if (!r.sing && !q->full && (op->flags & M_BASED) && (rc = fill_rest(s, op, q, r.x, e))) return rc;

@@ -424,12 +424,12 @@ static void refactor_extended_supernodal(void) { refactor_extended_ordering(1, 6
    background job), the field equals a fresh CHOLMOD solve of K_t; a tiny
    re-factorization prior makes it re-factor right after the warm-up, so both
    choices occur; the reported reason belongs to the choice */
-static void auto_equals_fresh(int background, unsigned long seed)
+static void auto_equals_fresh(int background, unsigned long seed, int nx, int ny, int nz)
 {
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, seed);
     gen g;
-    gen_init(&g, 4, 3, 6, 1.0, r);
+    gen_init(&g, nx, ny, nz, 1.0, r);
     aug_solver_opts o;
     aug_solver_opts_default(&o);
     T_CHECK(o.nmeth == 1 && o.order[0] == AUG_M_AUTO, "auto is not the default");
@@ -469,13 +469,90 @@ static void auto_equals_fresh(int background, unsigned long seed)
         free(ref);
     }
     T_CHECK(nchoice[0] >= 2 && nchoice[1] >= 1, "choices: %d AMPS, %d re-factorizations", nchoice[0], nchoice[1]);
+    printf("# n %lld: %d AMPS steps, %d re-factorizations\n", (long long)g.n, nchoice[0], nchoice[1]);
     aug_solver_free(s);
     gen_free(&g);
     gsl_rng_free(r);
 }
 
-static void auto_foreground(void) { auto_equals_fresh(0, 71); }
-static void auto_background(void) { auto_equals_fresh(1, 72); }
+static void auto_foreground(void) { auto_equals_fresh(0, 71, 4, 3, 6); }
+static void auto_background(void) { auto_equals_fresh(1, 72, 4, 3, 6); }
+/* order >= AUG_SUPERNODAL_MIN: each re-factorization's supernodal factor
+   moved into its base as Ls, handed back when the next one replaces it */
+static void auto_supernodal(void) { auto_equals_fresh(0, 74, 8, 8, 10); }
+
+/* The cost model alone (aug_auto_decide / aug_auto_observe) on synthetic
+   timings, n steps: a re-factorization costs t_ref, the j-th AMPS step on a
+   base a0 + slope j + c w with w the S2 flops of a full LU of order s (j+1)
+   (s positions a step); the total and the re-factorizations of auto's
+   choices, and the totals of the fixed methods: refactor every step, AMPS
+   on K0 throughout */
+typedef struct {
+    double t_ref, a0, slope, c;
+    int64_t s;
+    double noise; /* + noise * (0, 1/4, .. 1) by step, a fixed pattern */
+} synth;
+
+static double synth_auto(const synth *y, int n, int *nref, double *all_amps)
+{
+    aug_auto a;
+    aug_auto_init(&a, 0);
+    a.t_prior = y->t_ref;
+    double tot = 0;
+    int j = 0;
+    *nref = 0, *all_amps = 0;
+    for (int t = 0; t < n; t++) {
+        *all_amps += y->a0 + y->slope * t + y->c * aug_s2_flops(0, y->s * (t + 1), 0);
+        if (aug_auto_decide(&a, 0, y->s) == AUG_AUTO_AMPS) {
+            double w = aug_s2_flops(0, y->s * (j + 1), 0), ms = y->a0 + y->slope * j + y->c * w;
+            ms += y->noise * (double)((t * 7919) % 5) / 4;
+            aug_auto_observe(&a, ms, w, y->s * (j + 1));
+            tot += ms, j++;
+        } else {
+            aug_auto_observe(&a, y->t_ref, 0, 0);
+            tot += y->t_ref, j = 0, ++*nref;
+        }
+    }
+    return tot;
+}
+
+/* dear AMPS steps (5x a re-factorization): refactor every step after the
+   first measured AMPS step, no probe while they are predicted > 2x dearer;
+   cheap steps: AMPS throughout, also with a noise of 2/3 their time (the
+   growth is the trend's, not the sum over the cheapest); S2 growing with the cube of its order (the
+   2-D refined square): re-factored before a step costs more than t_ref, auto
+   well below both fixed methods; linear growth: cycles, below both */
+static void auto_policy_synthetic(void)
+{
+    const int n = 60;
+    int nref;
+    double amps;
+    synth dear = {10, 50, 0, 1e-7, 100, 0};
+    double tot = synth_auto(&dear, n, &nref, &amps);
+    printf("# dear: auto %.1f ms, %d re-factorizations; refactor %.1f, amps %.1f\n", tot, nref, n * dear.t_ref, amps);
+    T_CHECK(tot <= 1.1 * n * dear.t_ref, "dear AMPS: auto %g vs refactor %g", tot, n * dear.t_ref);
+    T_CHECK(nref == n - 1, "dear AMPS: %d re-factorizations in %d steps", nref, n);
+    synth cheap = {100, 1, 0.01, 0, 10, 0};
+    tot = synth_auto(&cheap, n, &nref, &amps);
+    printf("# cheap: auto %.1f ms, %d re-factorizations; refactor %.1f, amps %.1f\n", tot, nref, n * cheap.t_ref, amps);
+    T_CHECK(nref == 0 && tot <= 1.1 * amps, "cheap AMPS: auto %g (%d re-factorizations) vs amps %g", tot, nref,
+            amps);
+    synth cube = {20, 10, 0, 1e-7, 200, 0};
+    tot = synth_auto(&cube, n, &nref, &amps);
+    printf("# cube: auto %.1f ms, %d re-factorizations; refactor %.1f, amps %.1f\n", tot, nref, n * cube.t_ref, amps);
+    T_CHECK(tot <= 0.9 * n * cube.t_ref && tot <= 0.1 * amps && nref >= n / 4,
+            "S2 growth: auto %g (%d re-factorizations) vs refactor %g, amps %g", tot, nref, n * cube.t_ref, amps);
+    /* no growth, a noise of 2/3 the step: never re-factored */
+    synth noisy = {100, 3, 0, 0, 10, 2};
+    tot = synth_auto(&noisy, n, &nref, &amps);
+    printf("# noisy: auto %.1f ms, %d re-factorizations; refactor %.1f\n", tot, nref, n * noisy.t_ref);
+    T_CHECK(nref == 0, "noisy AMPS steps: %d re-factorizations", nref);
+    synth lin = {20, 1, 1, 0, 10, 0};
+    tot = synth_auto(&lin, n, &nref, &amps);
+    printf("# lin: auto %.1f ms, %d re-factorizations; refactor %.1f, amps %.1f\n", tot, nref, n * lin.t_ref, amps);
+    T_CHECK(tot <= 0.6 * n * lin.t_ref && tot <= 0.3 * amps && nref >= 3,
+            "linear growth: auto %g (%d re-factorizations) vs refactor %g, amps %g", tot, nref, n * lin.t_ref, amps);
+}
 
 /* auto re-factors the base amps and gmres would share: refused with them */
 static void auto_apart(void)
@@ -518,7 +595,9 @@ int main(void)
     T_RUN(refactor_extended_supernodal);
     T_RUN(auto_foreground);
     T_RUN(auto_background);
+    T_RUN(auto_supernodal);
     T_RUN(auto_apart);
+    T_RUN(auto_policy_synthetic);
     cholmod_finish(&cm);
     T_EXIT();
 }
