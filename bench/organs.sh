@@ -161,4 +161,6 @@ plot '$T/phases.dat' using 2:xtic(1) title 'reach (V columns)', '' using 3 title
 GP
 fi
 column -s, -t < $SUM 2> /dev/null || cat $SUM
+# issue 15's goals on these CSVs (and par_threads.sh's summary when present)
+python3 bench/organs_goals.py $O $O/organs_goals.csv || status=1
 exit $status

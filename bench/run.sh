@@ -17,6 +17,6 @@ run modal.sh
 run blade.sh
 run thesis.sh
 run thesis_acdm.sh
+run par_threads.sh # before organs.sh, whose goals table reads its summary
 run organs.sh
-run par_threads.sh
 exit $status
