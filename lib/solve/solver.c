@@ -135,7 +135,9 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
         cholmod_free_factor(&L0, cm);
         goto fail;
     }
+    double tb0 = 1e3 * aug_now();
     s->base = aug_base_new(L0, K0, f0, -1, cm, e);
+    double t_base0 = 1e3 * aug_now() - tb0;
     if (!s->base || aug_cum_init(&s->cum, s->base->n, e)) goto fail;
     if (s->use[AUG_M_AUTO] && (s->use[AUG_M_AMPS] || s->use[AUG_M_GMRES])) {
         aug_err_set(e, AUG_EUSAGE, -1, "", "--method auto re-factors the base of amps and gmres: run it apart");
@@ -144,7 +146,15 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     if (s->use[AUG_M_AUTO]) {
         /* a background job needs a free core: --background or --threads >= 2 */
         aug_auto_init(&s->au, o->background || o->nthreads >= 2);
+        /* the prior of a re-factorization step: AUG_AUTO_PRIOR full solves,
+           or the time the first base took when more (from a simplicial
+           stream factor it is a numeric factorization of K0 on its
+           ordering and the base's set-up, what a re-factor step repeats:
+           sphere3 of bench/organs.sh, 50 full solves 170 ms against a
+           re-factor step of 332 ms, so that the growth rule re-factored
+           on too low a price) */
         s->au.t_prior = o->auto_prior > 0 ? o->auto_prior : AUG_AUTO_PRIOR * aug_solver_full_solve_ms(s, 3);
+        if (!(o->auto_prior > 0) && t_base0 > s->au.t_prior) s->au.t_prior = t_base0;
         if (!(s->au.t_prior > 0)) s->au.t_prior = 0;
         if (aug_refactor_order(&s->au_rf, s->base->perm, s->base->n)) {
             aug_err_set(e, AUG_ENOMEM, -1, "FACT", "out of memory");
