@@ -124,23 +124,18 @@ static cholmod_factor *factor_given(const cholmod_sparse *Kb, const int32_t *per
     return L;
 }
 
-/* ||f - K x||_2 for K stored whole or as one triangle (stype != 0); NAN
-   without K or f */
-static double resid_norm(const cholmod_sparse *K, const double *f, const double *x, int64_t n)
+/* ||f - K x||_2 (K x by aug_sym_mult); NAN without K or f */
+static double resid_norm(const cholmod_sparse *K, const double *f, const double *x, int64_t n,
+                         cholmod_common *cm)
 {
-    if (!K || !f || !K->packed || (int64_t)K->ncol != n) return NAN;
+    if (!K || !f || (int64_t)K->ncol != n) return NAN;
     double *r = aug_malloc((size_t)(n + 1) * sizeof *r), rr = 0;
     if (!r) return NAN;
-    memcpy(r, f, (size_t)n * sizeof *r);
-    const int *Kp = K->p, *Ki = K->i;
-    const double *Kx = K->x;
-    for (int64_t j = 0; j < n; j++)
-        for (int t = Kp[j]; t < Kp[j + 1]; t++) {
-            int i = Ki[t];
-            r[i] -= Kx[t] * x[j];
-            if (K->stype && i != j) r[j] -= Kx[t] * x[i];
-        }
-    for (int64_t i = 0; i < n; i++) rr += r[i] * r[i];
+    if (aug_sym_mult((cholmod_sparse *)K, (double *)x, r, cm)) {
+        free(r);
+        return NAN;
+    }
+    for (int64_t i = 0; i < n; i++) rr += (f[i] - r[i]) * (f[i] - r[i]);
     free(r);
     return sqrt(rr);
 }
@@ -214,7 +209,7 @@ aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double
             goto fail;
         }
     aug_ldl_solve_full(b, fb, b->a, work);
-    b->rnorm = resid_norm(Kb, fb, b->a, b->n);
+    b->rnorm = resid_norm(Kb, fb, b->a, b->n, cm);
     b->anorm = cblas_dnrm2((int)b->n, b->a, 1);
     if (!b->Ls && Kb && b->n >= AUG_SUPERNODAL_MIN) b->Ls = factor_given(Kb, b->perm, 1, cm);
     if (b->Ls) {
