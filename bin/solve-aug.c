@@ -10,7 +10,7 @@
 #include "cli/aug_opt.h"
 
 static const char *synopsis =
-    "solve-aug [FILE] [--method LIST] [--check] [--background] [--bg-lag N]\n"
+    "solve-aug [FILE] [--method LIST] [--check] [--background] [--bg-lag N] [--horizon N]\n"
     "          [--output all|surface|SET|node:ID,..] [--refine-iter N] [--refine-tol R]\n"
     "          [--amps-target R] [--amps-correct N] [--amps-pivot s2|alt|auto]\n"
     "          [--amps-field solve|memo] [--fail-tol F] [--tol T] [--maxit N]\n"
@@ -29,6 +29,8 @@ static const char *help =
     "  --background         re-factor in a background thread, swap when done (amps, gmres;\n"
     "                       auto: lets it choose one)\n"
     "  --bg-lag N           swap exactly N steps after each start (deterministic)\n"
+    "  --horizon N          auto: the stream brings N steps (a pre-defined cut, e.g. cut\n"
+    "                       --steps N); no re-factorization the steps left cannot pay back\n"
     "  --output all|surface|SET  nodes whose displacement is solved and written\n"
     "  --output node:ID[,ID...]  only these nodes (0-based, as in the stream), e.g. a\n"
     "                       haptic tool contact\n"
@@ -106,7 +108,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     aug_solver_opts_default(&o->so);
     o->frames = 1;
     aug_solver_opts *so = &o->so;
-    int nlag = 0, nrtol = 0, max_n = (int)so->cgm.max_n;
+    int nlag = 0, nrtol = 0, max_n = (int)so->cgm.max_n, horizon = 0;
     const aug_opt opt[] = {
         {AUG_OPT_CALL("--method", methods, so,
                       "a comma list of auto,amps,gmres,refactor,rowupdate,pcg,cgm-cov,cgm-es,cgm-log,cgm-as")},
@@ -115,6 +117,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},
         {AUG_OPT_FLAG("--background", &so->background)},
         {AUG_OPT_INT("--bg-lag", &so->bg_lag, 1, 1000000, "a count >= 1"), .given = &nlag},
+        {AUG_OPT_INT("--horizon", &horizon, 1, 1000000000, "a count >= 1")},
         {AUG_OPT_STRING("--output", &o->output, "all, surface, a set name or node:ID[,ID...]"), .flags = AUG_OPT_NONEMPTY},
         {AUG_OPT_INT("--refine-iter", &so->refine_iter, 0, 100, "0 to 100")},
         {AUG_OPT_REAL("--refine-tol", &so->refine_tol, 0, 1, "a number in [0, 1)"),
@@ -147,6 +150,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     if (nlag) so->background = 1;
     so->cgm.max_n = max_n;
+    so->horizon = horizon;
     if (nrtol) so->refine_max = so->refine_tol > 0 ? 3 : 0;
     aug_tool_usage_done(t, synopsis);
 }

@@ -561,7 +561,9 @@ enum {
     AUG_AUTO_AMORTIZED,    /* refactor: the growth has cost more than it */
     AUG_AUTO_FIRST_DEARER, /* refactor: warm-up AMPS steps cost more than it */
     AUG_AUTO_SINGULAR,     /* refactor: AMPS called the step singular */
-    AUG_AUTO_SWAPPED       /* AMPS on the background factor swapped in this step */
+    AUG_AUTO_SWAPPED,      /* AMPS on the background factor swapped in this step */
+    AUG_AUTO_HORIZON       /* AMPS: the growth has cost more than a re-factorization,
+                              but the steps left (--horizon) would not pay it back */
 };
 /* AMPS steps on a new base whose excess over the cheapest later step counts
    as its warm-up; after this many re-factorizations in a row chosen because
@@ -592,6 +594,7 @@ typedef struct aug_auto {
     double a_ref;          /* the first steady AMPS step on the base, ms */
     double ls[5];          /* sums of 1, j, a_j, j^2, j a_j over the steady steps */
     double excess;         /* the growth's cost on the base (trend over a_ref), ms */
+    double g;              /* the trend's slope, ms per step */
     double t_factor;       /* a re-factorization step (running mean), ms; 0: none yet */
     double t_prior;        /* its prior before one is measured, ms */
     int nsync_run;         /* re-factorizations in a row for FIRST_DEARER */
@@ -603,8 +606,9 @@ typedef struct aug_auto {
 } aug_auto;
 void aug_auto_init(aug_auto *a, int bg_allowed);
 /* the choice for the next step; s_step: the positions the step's update adds
-   to S2 (its m + k) */
-int aug_auto_decide(aug_auto *a, int bg_running, int64_t s_step);
+   to S2 (its m + k); left: the steps the stream still brings, this one
+   included (solve-aug --horizon), <= 0 when unknown */
+int aug_auto_decide(aug_auto *a, int bg_running, int64_t s_step, int64_t left);
 /* the step's measured time ms and, for AMPS, its S2 flops and order */
 void aug_auto_observe(aug_auto *a, double ms, double s2_flops, int64_t na);
 void aug_auto_rebased(aug_auto *a);
@@ -644,6 +648,7 @@ typedef struct aug_solver_opts {
     int pcg_prec;        /* AUG_PCG_NONE, AUG_PCG_JACOBI (default) or AUG_PCG_IC */
     double auto_prior;   /* auto: the re-factorization time (ms) assumed until one
                             is measured; 0: AUG_AUTO_PRIOR full solves */
+    int64_t horizon;     /* auto: the steps the stream brings (0: unknown) */
     int amps_correct;    /* amps: correction sweeps on H at most (0: none) */
     int amps_pivot;      /* amps: AUG_PIVOT_S2 (default), _ALT or _AUTO */
     int amps_field_memo; /* amps: Kbar^-1 Hbar w by the memo's V (1) or a forward solve (0) */

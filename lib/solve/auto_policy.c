@@ -74,9 +74,18 @@ static double predict_ms(const aug_auto *a)
        takes about T, the growth goes on meanwhile);
      - E >= R (the steps a new base would have saved outweigh it: for a_j
        growing linearly the optimum of the cycle cost (R + sum a_j) / j):
-       re-factor now;
-     - else AMPS. */
-int aug_auto_decide(aug_auto *a, int bg_running, int64_t s_step)
+       re-factor now, unless the stream's length is known (left steps to
+       come, this one included) and the left - 1 steps after this one,
+       each cheaper by about g j on a new base (j steady steps on this
+       one), save less than the re-factorization costs over this step's
+       AMPS, R - est: then AMPS to the end (HORIZON; an online rule cannot
+       see the end, and without it a re-factorization a few steps before
+       it is paid and not recovered: sphere3's 8-node cut of bench/organs.sh
+       re-factored at step 14 of 16);
+     - else AMPS.
+   With a free core and a known length a background job starts only if the
+   steps left would outlast it (left - 1 AMPS steps take longer than T). */
+int aug_auto_decide(aug_auto *a, int bg_running, int64_t s_step, int64_t left)
 {
     double T = a->t_factor > 0 ? a->t_factor : a->t_prior, R = T + a->t_warm;
     a->want_bg = 0;
@@ -100,10 +109,16 @@ int aug_auto_decide(aug_auto *a, int bg_running, int64_t s_step)
     if (a->on_base < AUG_AUTO_WARM) return pick(a, AUG_AUTO_AMPS, AUG_AUTO_FIRST);
     a->est_factor = R;
     if (a->bg_allowed && R > 0 && a->excess >= 0.25 * R) {
+        if (left > 0 && !((double)(left - 1) * a->est_amps > T)) return pick(a, AUG_AUTO_AMPS, AUG_AUTO_HORIZON);
         a->want_bg = 1;
         return pick(a, AUG_AUTO_AMPS, AUG_AUTO_BG_START);
     }
-    if (R > 0 && a->excess >= R) return pick(a, AUG_AUTO_REFACTOR, AUG_AUTO_AMORTIZED);
+    if (R > 0 && a->excess >= R) {
+        double j = a->on_base - AUG_AUTO_WARM;
+        if (left > 0 && !((double)(left - 1) * a->g * j >= R - a->est_amps))
+            return pick(a, AUG_AUTO_AMPS, AUG_AUTO_HORIZON);
+        return pick(a, AUG_AUTO_REFACTOR, AUG_AUTO_AMORTIZED);
+    }
     return pick(a, AUG_AUTO_AMPS, AUG_AUTO_CHEAPER);
 }
 
@@ -144,6 +159,7 @@ void aug_auto_observe(aug_auto *a, double ms, double w, int64_t na)
         double den = a->ls[0] * a->ls[3] - a->ls[1] * a->ls[1];
         double g = a->ls[0] >= 3 && den > 0 ? (a->ls[0] * a->ls[4] - a->ls[1] * a->ls[2]) / den : 0;
         a->excess = g > 0 ? g * a->ls[1] : 0;
+        a->g = g > 0 ? g : 0;
     }
     a->on_base++;
 }
@@ -155,7 +171,7 @@ void aug_auto_rebased(aug_auto *a)
     a->nbase++;
     a->on_base = 0;
     a->na = 0;
-    a->excess = a->warm_sum = 0;
+    a->excess = a->warm_sum = a->g = 0;
     a->a_ref = a->a_last = a->w_last = a->a1 = a->w1 = 0;
     memset(a->ls, 0, sizeof a->ls);
 }

@@ -87,6 +87,7 @@ struct aug_solver {
     aug_refactor au_rf;
     int au_swapped;      /* the background factor became the base this step */
     aug_par *par;        /* --threads >= 2: the two-core L^-T of AMPS (aug_par.h) */
+    int64_t nstep;       /* steps taken (aug_solver_step calls), this one included */
 };
 
 /* nnz(L) of the base's factor: the fill of K0's ordering, which the
@@ -614,7 +615,10 @@ static int auto_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
     int bgr = s->bg && aug_bg_running(s->bg);
     s->amps.relres_h = NAN; /* a re-factoring step leaves no AMPS residual */
-    if (aug_auto_decide(&s->au, bgr, (int64_t)q->u->m + q->u->k) == AUG_AUTO_AMPS) {
+    /* the steps left, this one included, when the stream's length was given
+       (a longer stream than said: unknown from there on) */
+    int64_t left = s->o.horizon > 0 && s->nstep <= s->o.horizon ? s->o.horizon - s->nstep + 1 : 0;
+    if (aug_auto_decide(&s->au, bgr, (int64_t)q->u->m + q->u->k, left) == AUG_AUTO_AMPS) {
         if (s->au_swapped) s->au.reason = AUG_AUTO_SWAPPED;
         int rc = amps_step(s, q, r, e);
         if (rc || !r->sing || bgr) return rc; /* singular with a job running: the fallback */
@@ -634,6 +638,7 @@ static void auto_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
     put(st, "est_amps_ms", a->est_amps);
     put(st, "est_factor_ms", a->est_factor);
     put(st, "excess_ms", a->excess);
+    if (s->o.horizon > 0) put(st, "steps_left", s->nstep <= s->o.horizon ? (double)(s->o.horizon - s->nstep + 1) : 0);
     put(st, "bg_start", a->want_bg);
     put(st, "est_s2_flops", a->w_next);
     put(st, "base_no", a->nbase + (a->choice == AUG_AUTO_REFACTOR));
@@ -1039,6 +1044,7 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
                     int flags, aug_err *e)
 {
     s->step = u->step;
+    s->nstep++;
     if (aug_cutmat_apply(&s->cut, u, e)) return e->code;
     if (buffers(s, s->cut.cum.n)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     aug_cutmat_rhs(&s->cut, s->f);

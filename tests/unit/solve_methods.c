@@ -493,7 +493,7 @@ typedef struct {
     double noise; /* + noise * (0, 1/4, .. 1) by step, a fixed pattern */
 } synth;
 
-static double synth_auto(const synth *y, int n, int *nref, double *all_amps)
+static double synth_auto_h(const synth *y, int n, int horizon, int *nref, double *all_amps)
 {
     aug_auto a;
     aug_auto_init(&a, 0);
@@ -503,7 +503,7 @@ static double synth_auto(const synth *y, int n, int *nref, double *all_amps)
     *nref = 0, *all_amps = 0;
     for (int t = 0; t < n; t++) {
         *all_amps += y->a0 + y->slope * t + y->c * aug_s2_flops(0, y->s * (t + 1), 0);
-        if (aug_auto_decide(&a, 0, y->s) == AUG_AUTO_AMPS) {
+        if (aug_auto_decide(&a, 0, y->s, horizon > 0 ? horizon - t : 0) == AUG_AUTO_AMPS) {
             double w = aug_s2_flops(0, y->s * (j + 1), 0), ms = y->a0 + y->slope * j + y->c * w;
             ms += y->noise * (double)((t * 7919) % 5) / 4;
             aug_auto_observe(&a, ms, w, y->s * (j + 1));
@@ -514,6 +514,61 @@ static double synth_auto(const synth *y, int n, int *nref, double *all_amps)
         }
     }
     return tot;
+}
+
+static double synth_auto(const synth *y, int n, int *nref, double *all_amps)
+{
+    return synth_auto_h(y, n, 0, nref, all_amps);
+}
+
+/* the least total of any choice sequence on the noiseless synthetic costs
+   (dynamic programming over the steps since the last re-factorization) */
+static double synth_best(const synth *y, int n)
+{
+    double *next = calloc((size_t)n + 2, sizeof *next), *cur = calloc((size_t)n + 2, sizeof *cur);
+    if (!next || !cur) abort();
+    for (int t = n - 1; t >= 0; t--) {
+        for (int j = 0; j <= t; j++) {
+            double ms = y->a0 + y->slope * j + y->c * aug_s2_flops(0, y->s * (j + 1), 0);
+            double amps = ms + next[j + 1], ref = t == 0 ? INFINITY : y->t_ref + next[0];
+            cur[j] = amps < ref ? amps : ref;
+        }
+        double *sw = next;
+        next = cur, cur = sw;
+    }
+    double v = next[0];
+    free(next), free(cur);
+    return v;
+}
+
+/* --horizon: the stream's length known, auto pays no re-factorization the
+   steps left do not pay back. Linear growth over lengths 16 .. 80: with the
+   horizon never above the online rule, within 1.1x of the best fixed method
+   (AMPS throughout or a re-factorization every step; issue 15's goal) on
+   every length, and cheaper than the online rule on some (it re-factors a
+   few steps before the end there: at 16 steps 1.22x AMPS's total); the
+   least total of any choice sequence (synth_best) is printed beside it */
+static void auto_policy_horizon(void)
+{
+    synth lin = {60, 1, 1, 0, 10, 0};
+    double worst_h = 0, worst_o = 0, worst_best = 0;
+    int nlate = 0;
+    for (int n = 16; n <= 80; n++) {
+        int nr_o, nr_h;
+        double amps, opt = synth_best(&lin, n);
+        double on = synth_auto(&lin, n, &nr_o, &amps), hz = synth_auto_h(&lin, n, n, &nr_h, &amps);
+        double fixed = amps < n * lin.t_ref ? amps : n * lin.t_ref;
+        T_CHECK(hz <= on + 1e-9, "n %d: with the horizon %g, online %g", n, hz, on);
+        T_CHECK(hz <= 1.1 * fixed, "n %d: with the horizon %g, the best fixed method %g", n, hz, fixed);
+        if (hz < on - 1e-9) nlate++;
+        if (hz / fixed > worst_h) worst_h = hz / fixed;
+        if (on / fixed > worst_o) worst_o = on / fixed;
+        if (hz / opt > worst_best) worst_best = hz / opt;
+    }
+    printf("# horizon: worst auto / best fixed %.3f with it, %.3f online; %d of 65 lengths cheaper with it; "
+           "worst auto / least total %.3f\n",
+           worst_h, worst_o, nlate, worst_best);
+    T_CHECK(nlate > 0, "the horizon changed nothing on 65 lengths");
 }
 
 /* dear AMPS steps (5x a re-factorization): refactor every step after the
@@ -598,6 +653,7 @@ int main(void)
     T_RUN(auto_supernodal);
     T_RUN(auto_apart);
     T_RUN(auto_policy_synthetic);
+    T_RUN(auto_policy_horizon);
     cholmod_finish(&cm);
     T_EXIT();
 }
