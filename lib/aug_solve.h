@@ -594,7 +594,7 @@ typedef struct aug_auto {
     double a_ref;          /* the first steady AMPS step on the base, ms */
     double ls[5];          /* sums of 1, j, a_j, j^2, j a_j over the steady steps */
     double excess;         /* the growth's cost on the base (trend over a_ref), ms */
-    double g;              /* the trend's slope, ms per step */
+    double g, trend0;      /* the trend's slope (ms per step, >= 0) and intercept */
     double t_factor;       /* a re-factorization step (running mean), ms; 0: none yet */
     double t_prior;        /* its prior before one is measured, ms */
     int nsync_run;         /* re-factorizations in a row for FIRST_DEARER */

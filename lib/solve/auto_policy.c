@@ -35,6 +35,10 @@ static double predict_flops(const aug_auto *a, int64_t s)
 }
 
 /* The time of the next AMPS step: a_last + c (w_next - w_last) on a base,
+   a_last no higher than the steady steps' trend at that step once it has
+   three points (one slow step, a page fault or a busy core, does not
+   carry into the prediction: on sphere3's 8-node cut a 98 ms step among
+   50 ms ones predicted 206 ms, and re-factoring looked cheap),
    with c the ms per S2 flop fitted on the last base where S2 grew (a prior
    until then, and within AUG_AUTO_CFLOP_MIN .. MAX), a_first + c (w_next - w_first) on a
    fresh base (the first steps of the bases before: their state is built
@@ -46,8 +50,12 @@ static double predict_ms(const aug_auto *a)
         double v = a->a_first + a->c_flop * (a->w_next - a->w_first);
         return v > 0 ? v : 0;
     }
-    double grow = a->c_flop * (a->w_next - a->w_last);
-    return a->a_last + (grow > 0 ? grow : 0);
+    double grow = a->c_flop * (a->w_next - a->w_last), last = a->a_last;
+    if (a->ls[0] >= 3) {
+        double tr = a->trend0 + a->g * (a->on_base - 1 - AUG_AUTO_WARM);
+        if (tr > 0 && tr < last) last = tr;
+    }
+    return last + (grow > 0 ? grow : 0);
 }
 
 /* The choice for the next step (paper 001 sec. 3.5: an AMPS step costs more
@@ -160,6 +168,7 @@ void aug_auto_observe(aug_auto *a, double ms, double w, int64_t na)
         double g = a->ls[0] >= 3 && den > 0 ? (a->ls[0] * a->ls[4] - a->ls[1] * a->ls[2]) / den : 0;
         a->excess = g > 0 ? g * a->ls[1] : 0;
         a->g = g > 0 ? g : 0;
+        a->trend0 = (a->ls[2] - a->g * a->ls[1]) / a->ls[0]; /* the intercept with that slope */
     }
     a->on_base++;
 }
@@ -171,7 +180,7 @@ void aug_auto_rebased(aug_auto *a)
     a->nbase++;
     a->on_base = 0;
     a->na = 0;
-    a->excess = a->warm_sum = a->g = 0;
+    a->excess = a->warm_sum = a->g = a->trend0 = 0;
     a->a_ref = a->a_last = a->w_last = a->a1 = a->w1 = 0;
     memset(a->ls, 0, sizeof a->ls);
 }
