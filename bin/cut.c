@@ -215,8 +215,12 @@ int main(int argc, char **argv)
     /* everything upstream passes byte for byte: the factor of K0 stays valid */
     while (aug_tool_read(&t, &rec) == 1) {
         aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
-        aug_tool_pass(&t, &rec);
+        if (!memcmp(rec.type, "pLAN", 4)) /* the upstream plan, extended by this cut's steps */
+            aug_tool_check(&t, aug_write_plan(t.w, rp.plan_first, rp.plan_last + (int32_t)o.steps, &e), &e);
+        else
+            aug_tool_pass(&t, &rec);
     }
+    aug_tool_check(&t, aug_replay_plan_end(&rp, &e), &e);
     aug_mesh *m = &rp.mesh;
     if (!(m->have & AUG_HAVE_NODE) || !(m->have & AUG_HAVE_ELEM))
         aug_tool_die(&t, "%s: the stream has no mesh (NODE and ELEM records)", t.inname);
@@ -254,6 +258,10 @@ int main(int argc, char **argv)
         aug_path_cut_init(&pp, &o.path, o.mode, o.snap_tol);
         pp.kappa = !o.chords;
     }
+    /* the steps this cut brings (pLAN: solve-aug's auto knows where it ends),
+       unless the upstream plan was extended above */
+    if (!rp.plan_last)
+        aug_tool_check(&t, aug_write_plan(t.w, rp.last_step + 1, rp.last_step + (int32_t)o.steps, &e), &e);
     int64_t nseg = 0; /* segments of the path inside the mesh, over every step */
     for (long k = 1; k <= o.steps; k++) {
         int32_t step = rp.last_step + (int32_t)k;

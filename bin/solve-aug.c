@@ -304,6 +304,7 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, d
     aug_tool_check(t, aug_replay_out_dofs(rp, &out, &nout, &e), &e);
     if (rs) aug_tool_check(t, aug_react_out_dofs(rs, &out, &nout, &e), &e);
     int flags = rp->nmdlt && rp->mdlt_step == u.step ? rp->mdlt_flags : 0;
+    aug_solver_plan(s, rp->plan_last);
     if (aug_solver_step(s, &u, aug_replay_all(rp) ? NULL : out, nout, flags, &e)) {
         e.record = rec->index;
         snprintf(e.type, sizeof e.type, "UPDT");
@@ -388,6 +389,7 @@ int main(int argc, char **argv)
         }
         aug_tool_pass(&t, &rec);
     }
+    aug_tool_check(&t, aug_replay_plan_end(&rp, &e), &e);
     if (sys.dynamic && o.settle > 0) {
         start(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
         frames(&t, &o, &rp, &sys, &dy, rp.last_step, o.settle, full_ms, &rec, o.no_reactions ? NULL : &rs);

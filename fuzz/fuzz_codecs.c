@@ -165,6 +165,11 @@ static int put_prov(aug_writer *w, const void *o, aug_err *e)
     char *argv[] = {(char *)o};
     return aug_write_prov(w, 1, argv, e);
 }
+static int put_plan(aug_writer *w, const void *o, aug_err *e)
+{
+    const int32_t *fl = o;
+    return aug_write_plan(w, fl[0], fl[1], e);
+}
 static int put_mesh(aug_writer *w, const void *o, aug_err *e)
 {
     return aug_mesh_write(w, ((const step_obj *)o)->m, e);
@@ -253,6 +258,9 @@ static void typed_step(const aug_rec *rec, const aug_mesh *m)
         if (!aug_read_kv(rec, &s.kv, &e)) roundtrip1(rec->type, put_kv, &s, rec->index % 2);
     } else if (is(rec, "pROv") && !aug_read_prov(rec, &text, &e)) {
         roundtrip1("pROv", put_prov, text, rec->index % 2);
+    } else if (is(rec, "pLAN")) {
+        int32_t fl[2];
+        if (!aug_read_plan(rec, &fl[0], &fl[1], &e)) roundtrip1("pLAN", put_plan, fl, rec->index % 2);
     }
     free(text);
     aug_mdelta_free(&s.d);

@@ -40,6 +40,8 @@ typedef struct aug_replay {
     int64_t nn0, nfree0;
     int32_t *map0;             /* nn0*dim: index in K0, or -1 (constrained) */
     int32_t last_step;         /* highest step of a per-step record so far (0: none) */
+    int32_t plan_first, plan_last; /* the latest pLAN's steps (0: none read) */
+    long plan_index;           /* ... and its record index */
     int32_t step_limit;        /* default INT32_MAX */
     const char *output;        /* all, surface, a set name, or NULL (the stream's oUTs) */
     long nmdlt, applied;       /* MDLT records read, applied */
@@ -56,6 +58,8 @@ typedef struct aug_replay {
 void aug_replay_init(aug_replay *r);
 void aug_replay_free(aug_replay *r);
 int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e);
+/* At the stream's end: its last step is the latest pLAN's last (when there is one). */
+int aug_replay_plan_end(const aug_replay *r, aug_err *e);
 /* Fix the original mesh now (called by add at the first matrix/step record). */
 int aug_replay_start(aug_replay *r, aug_err *e);
 int64_t aug_replay_index(const aug_replay *r, int64_t node, int c);

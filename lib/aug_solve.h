@@ -695,6 +695,9 @@ void aug_solver_free(aug_solver *s);
    reported singular or not converged: the base stays). */
 int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int64_t nout,
                     int flags, aug_err *e);
+/* The number of the stream's last cut step (its pLAN; 0: unknown): auto's
+   horizon when --horizon is not given */
+void aug_solver_plan(aug_solver *s, int32_t last_step);
 int64_t aug_solver_n(const aug_solver *s);
 const double *aug_solver_field(const aug_solver *s, int method);
 const aug_kv *aug_solver_stat(const aug_solver *s, int method);

@@ -86,7 +86,7 @@ typedef struct aug_codec {
     int (*check)(const struct aug_rec *rec, aug_err *e);
     int (*dump)(FILE *out, struct aug_mesh *m, const struct aug_rec *rec, aug_err *e);
 } aug_codec;
-extern const aug_codec aug_codec_head, aug_codec_prov, aug_codec_tail;
+extern const aug_codec aug_codec_head, aug_codec_prov, aug_codec_tail, aug_codec_plan;
 extern const aug_codec aug_codec_mode; /* lib/modal/mode_rec.c */
 extern const aug_codec aug_codec_node, aug_codec_matl, aug_codec_elem, aug_codec_nset,
     aug_codec_fixd, aug_codec_load, aug_codec_outs, aug_codec_grav, aug_codec_fndn;
@@ -149,6 +149,10 @@ int aug_write_rec(aug_writer *w, const aug_rec *rec, aug_err *e);
 int aug_write_prov(aug_writer *w, int argc, char **argv, aug_err *e);
 /* its text as a NUL-terminated copy (free it) */
 int aug_read_prov(const aug_rec *rec, char **text, aug_err *e);
+/* pLAN (formats/stream.md 4.4): the cut steps first..last that the stream
+   brings after it (1 <= first <= last); read checks the range */
+int aug_write_plan(aug_writer *w, int32_t first, int32_t last, aug_err *e);
+int aug_read_plan(const aug_rec *rec, int32_t *first, int32_t *last, aug_err *e);
 /* HEAD as stats --dump prints it (record #0, consumed by aug_reader_open) */
 int aug_dump_head(FILE *out, const aug_reader *r, aug_err *e);
 /* Payload checks and stats --dump text through the record table: the codec of

@@ -84,4 +84,5 @@ def main():
     else:
         raise SystemExit(__doc__)
 
-main()
+if __name__ == "__main__":
+    main()

@@ -186,13 +186,45 @@ static int add_bdlt(aug_replay *r, const aug_rec *rec, aug_err *e)
     return rc;
 }
 
+/* pLAN (formats/stream.md 4.4): the steps the stream brings after it, which
+   must all come later than every step before it; the latest one holds */
+static int add_plan(aug_replay *r, const aug_rec *rec, aug_err *e)
+{
+    int32_t a, b;
+    if (aug_read_plan(rec, &a, &b, e)) return e->code;
+    if (a <= r->last_step)
+        return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
+                           "plans steps %d to %d, but step %d came before it", (int)a, (int)b, (int)r->last_step);
+    r->plan_first = a, r->plan_last = b, r->plan_index = rec->index;
+    return 0;
+}
+
+/* a per-step record's step against the latest pLAN: within first..last */
+static int plan_agrees(const aug_replay *r, const aug_rec *rec, aug_err *e)
+{
+    if (r->plan_last <= 0 || (rec->step >= r->plan_first && rec->step <= r->plan_last)) return 0;
+    return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
+                       "step %d, but pLAN (record %ld) plans steps %d to %d after it", (int)rec->step,
+                       r->plan_index, (int)r->plan_first, (int)r->plan_last);
+}
+
+int aug_replay_plan_end(const aug_replay *r, aug_err *e)
+{
+    aug_err_clear(e);
+    if (r->plan_last <= 0 || r->last_step == r->plan_last) return 0;
+    return aug_err_set(e, AUG_EDATA, r->plan_index, "pLAN", "plans steps to %d, but the stream ends at step %d",
+                       (int)r->plan_last, (int)r->last_step);
+}
+
 int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
     if (aug_mesh_is_record(rec->type)) return aug_mesh_absorb(&r->mesh, rec, e);
     const aug_rectype *rt = aug_rectype_find(rec->type);
     if (rt && rt->phase >= 2 && rt->phase <= 3 && aug_replay_start(r, e)) return e->code;
+    if (rt && rt->perstep && plan_agrees(r, rec, e)) return e->code;
     if (rt && rt->perstep && rec->step > r->last_step) r->last_step = rec->step;
+    if (!memcmp(rec->type, "pLAN", 4)) return add_plan(r, rec, e);
     if (!memcmp(rec->type, "DOFM", 4)) return add_dofm(r, rec, e);
     if (!memcmp(rec->type, "MDLT", 4)) return add_mdlt(r, rec, e);
     if (!memcmp(rec->type, "BDLT", 4)) return add_bdlt(r, rec, e);

@@ -88,6 +88,7 @@ struct aug_solver {
     int au_swapped;      /* the background factor became the base this step */
     aug_par *par;        /* --threads >= 2: the two-core L^-T of AMPS (aug_par.h) */
     int64_t nstep;       /* steps taken (aug_solver_step calls), this one included */
+    int32_t plan_last;   /* the stream's last cut step (pLAN), 0: unknown */
 };
 
 /* nnz(L) of the base's factor: the fill of K0's ordering, which the
@@ -611,13 +612,22 @@ static int auto_rebase(aug_solver *s, step_res *r, aug_err *e)
     return 0;
 }
 
+void aug_solver_plan(aug_solver *s, int32_t last_step) { s->plan_last = last_step > 0 ? last_step : 0; }
+
+/* the steps left, this one included, when the stream's length is known:
+   --horizon (a count of steps; a longer stream than said: unknown from
+   there on), else the stream's pLAN (its last step number); 0: unknown */
+static int64_t steps_left(const aug_solver *s)
+{
+    if (s->o.horizon > 0) return s->nstep <= s->o.horizon ? s->o.horizon - s->nstep + 1 : 0;
+    return s->plan_last >= s->step ? (int64_t)s->plan_last - s->step + 1 : 0;
+}
+
 static int auto_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
     int bgr = s->bg && aug_bg_running(s->bg);
     s->amps.relres_h = NAN; /* a re-factoring step leaves no AMPS residual */
-    /* the steps left, this one included, when the stream's length was given
-       (a longer stream than said: unknown from there on) */
-    int64_t left = s->o.horizon > 0 && s->nstep <= s->o.horizon ? s->o.horizon - s->nstep + 1 : 0;
+    int64_t left = steps_left(s);
     if (aug_auto_decide(&s->au, bgr, (int64_t)q->u->m + q->u->k, left) == AUG_AUTO_AMPS) {
         if (s->au_swapped) s->au.reason = AUG_AUTO_SWAPPED;
         int rc = amps_step(s, q, r, e);
@@ -638,7 +648,7 @@ static void auto_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
     put(st, "est_amps_ms", a->est_amps);
     put(st, "est_factor_ms", a->est_factor);
     put(st, "excess_ms", a->excess);
-    if (s->o.horizon > 0) put(st, "steps_left", s->nstep <= s->o.horizon ? (double)(s->o.horizon - s->nstep + 1) : 0);
+    if (s->o.horizon > 0 || s->plan_last > 0) put(st, "steps_left", (double)steps_left(s));
     put(st, "bg_start", a->want_bg);
     put(st, "est_s2_flops", a->w_next);
     put(st, "base_no", a->nbase + (a->choice == AUG_AUTO_REFACTOR));

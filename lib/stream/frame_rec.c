@@ -1,4 +1,4 @@
-/* Framing-family codecs (formats/stream.md 4): HEAD, pROv, TAIL. The writer
+/* Framing-family codecs (formats/stream.md 4): HEAD, pROv, pLAN, TAIL. The writer
    and reader frame HEAD and TAIL themselves; these are their checks and text. */
 #include <stdlib.h>
 #include <string.h>
@@ -93,6 +93,46 @@ static int prov_dump(FILE *o, struct aug_mesh *m, const aug_rec *rec, aug_err *e
     return 0;
 }
 
+/* pLAN: i32 first, i32 last, the cut steps the stream brings after it */
+int aug_write_plan(aug_writer *w, int32_t first, int32_t last, aug_err *e)
+{
+    aug_buf b;
+    aug_buf_init(&b);
+    aug_buf_i32(&b, first);
+    aug_buf_i32(&b, last);
+    return aug_buf_write(w, "pLAN", AUG_NOSTEP, &b, e);
+}
+
+int aug_read_plan(const aug_rec *rec, int32_t *first, int32_t *last, aug_err *e)
+{
+    aug_err_clear(e);
+    aug_cur c;
+    aug_cur_init(&c, rec);
+    int32_t a = aug_cur_i32(&c), b = aug_cur_i32(&c);
+    if (!c.ok || c.pos != c.len) return aug_err_set(e, AUG_EPAYLOAD, rec->index, rec->type, "payload is not 8 bytes");
+    if (!(a >= 1 && a <= b))
+        return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "steps %d to %d: not 1 <= first <= last", (int)a,
+                           (int)b);
+    *first = a, *last = b;
+    return 0;
+}
+
+static int plan_check(const aug_rec *rec, aug_err *e)
+{
+    int32_t a, b;
+    return aug_read_plan(rec, &a, &b, e);
+}
+
+static int plan_dump(FILE *o, struct aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    (void)m;
+    int32_t a, b;
+    if (aug_read_plan(rec, &a, &b, e)) return e->code;
+    aug_txt_header(o, rec);
+    fprintf(o, "  first %d\n  last %d\n", (int)a, (int)b);
+    return 0;
+}
+
 /* TAIL: u64 count of the records before it (the reader compares it) */
 static int tail_check(const aug_rec *rec, aug_err *e)
 {
@@ -114,3 +154,4 @@ static int tail_dump(FILE *o, struct aug_mesh *m, const aug_rec *rec, aug_err *e
 const aug_codec aug_codec_head = {"lib/stream/frame_rec.c", head_check, head_dump};
 const aug_codec aug_codec_prov = {"lib/stream/frame_rec.c", NULL, prov_dump};
 const aug_codec aug_codec_tail = {"lib/stream/frame_rec.c", tail_check, tail_dump};
+const aug_codec aug_codec_plan = {"lib/stream/frame_rec.c", plan_check, plan_dump};

@@ -31,6 +31,7 @@ const unsigned char aug_signature[8] = {0x89, 'A', 'U', 'G', '\r', '\n', 0x1a, '
 static const aug_rectype table[] = {
     {"HEAD", 8, 4096, 0, 1, 0, &aug_codec_head},
     {"pROv", 0, 1 << 20, -1, 0, 0, &aug_codec_prov},
+    {"pLAN", 8, 8, -1, 0, 0, &aug_codec_plan},
     {"NODE", 16, AUG_MAX_BODY, 1, 1, 0, &aug_codec_node},
     {"ELEM", 16, AUG_MAX_BODY, 1, 1, 0, &aug_codec_elem},
     {"MATL", 4, 1 << 24, 1, 1, 0, &aug_codec_matl},

@@ -7,8 +7,11 @@ usage: check_cut.py IN.aug OUT.aug
 IN: an uncut stream (meshload, perhaps factor); OUT: IN through one or more
 cuts, whose command lines (their pROv records) say what each step must do.
 - every record of IN but HEAD and TAIL is in OUT byte for byte, in order,
-  right after HEAD and the cut stages' pROv; then per step MDLT [BDLT] UPDT
-  pATH (ancillary sTAt/tIMe allowed), steps consecutive;
+  right after HEAD and the cut stages' pROv; then one pLAN (4.4) whose steps
+  are the stages' (first = the input's last step + 1, last = first - 1 +
+  the sum of their --steps: a second cut extends the first one's plan in
+  place); then per step MDLT [BDLT] UPDT pATH (ancillary sTAt/tIMe
+  allowed), steps consecutive;
 - at every step, on the mesh rebuilt from MDLT/BDLT: every element positive,
   the volume (area) unchanged, true conformity (a face in at most two elements
   with opposite orientations; an open face on the outer boundary of IN's mesh
@@ -553,10 +556,19 @@ def main():
     if own[-1][0] != "TAIL":
         fail("no TAIL")
     own = own[:-1]
+    last_in = max([s for t, s, p, b in rin if s >= 0] + [0])
+    total = sum(int(o.get("--steps", "0")) for o in stages)
+    if not own or own[0][0] != "pLAN" or len(own[0][2]) != 8:
+        fail("no pLAN of 8 bytes after the input's records")
+    plan = struct.unpack("<ii", own[0][2])
+    if plan != (last_in + 1, last_in + total):
+        fail("pLAN plans steps %d to %d, the stages bring %d to %d" % (plan + (last_in + 1, last_in + total)))
+    own = own[1:]
+    if any(r[0] == "pLAN" for r in own):
+        fail("a second pLAN after the first step")
     m = augstream.mesh([(t, 0, s, p) for t, s, p, b in rin])
     ck = Checker(m)
     Kacc, facc = ck.cm.assemble()
-    last_in = max([s for t, s, p, b in rin if s >= 0] + [0])
     for t, s, p, b in rin:
         if t == "KMAT":
             which, n, K0 = cutsys.kmat(p)

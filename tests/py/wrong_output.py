@@ -9,7 +9,8 @@ usage: wrong_output.py KIND IN [ARG] > OUT
                   of an interior edge, leaving a hanging node (a T-junction); its
                   UPDT recomputed to fit that mesh, the later steps dropped
   extra-copy      step 1 also copies node 0, which no element takes
-  prov-from IN2   the cut's pROv replaced by IN2's: the steps of another command line
+  prov-from IN2   the cut's pROv and pLAN replaced by IN2's: the steps of another
+                  command line
   updt-scale S    E[0, 0] of step S's UPDT times 1 + 1e-9
   field-scale S   the fELD of step S times 1 + 1e-8
 """
@@ -134,7 +135,12 @@ def main():
         d["x"].append(m["x"][0])
         r[3] = mdlt_bytes(d, dim)
     elif kind == "prov-from":
-        cut_prov(recs)[3] = cut_prov(augstream.records(open(sys.argv[3], "rb").read()))[3]
+        other = augstream.records(open(sys.argv[3], "rb").read())
+        cut_prov(recs)[3] = cut_prov(other)[3]
+        plan = [r for r in other if r[0] == "pLAN"]
+        for r in recs:
+            if r[0] == "pLAN" and plan:
+                r[3] = plan[0][3]
     elif kind == "updt-scale":
         scale(recs, "UPDT", int(sys.argv[3]), first_e, 1 + 1e-9)
     elif kind == "field-scale":
