@@ -1,8 +1,9 @@
 #!/bin/sh
 # solve-aug on real meshes (issue 15 item 7): per scene an oblique planar cut
 # solved by each method in its own run (auto, the default; amps; ampsbg, that
-# is amps --background; refactor; rowupdate; METHODS may add pcg; autoh,
-# auto told the stream's length by --horizon; autobg, auto with the second
+# is amps --background; refactor; rowupdate; METHODS may add pcg; autoon,
+# auto without the stream's length (--horizon 0: the online rule; auto takes
+# it from cut's pLAN); autobg, auto with the second
 # core for background jobs, as ampsbg has it), each step
 # timed next to one full solve of
 # the same factor (--time-full), so the ratios come from one run:
@@ -82,7 +83,7 @@ organ() {
         if [ $kind = one ]; then per=1 steps=$STEPS1; else per=8 steps=$STEPSM; fi
         $B/cut --plane $plane --per-step $per --steps $steps --pull 0.01 --detached drop < $T/f.aug > $T/c.aug 2> $T/err ||
             { echo "organs.sh: $name $kind: cut failed: $(tail -1 $T/err)" >&2; status=1; continue; }
-        solve_all $name $T/c.aug $kind "autoh:--method auto --horizon $steps" "autobg:--method auto --background"
+        solve_all $name $T/c.aug $kind "autoon:--method auto --horizon 0" "autobg:--method auto --background"
     done
 }
 
@@ -107,7 +108,7 @@ if [ "${SQUARE:-1}" = 1 ] && [ -f $S/square.msh ]; then
         { echo "organs.sh: square2d failed" >&2; status=1; }
     for sq in square2d:$SQSTEPS square2d_long:$SQLONG; do
         $B/cut --path $T/p.path --steps ${sq#*:} --detached pin < $T/sqf.aug | $B/refine --min-angle 20 > $T/sq.aug &&
-            solve_all ${sq%%:*} $T/sq.aug refined "autoh:--method auto --horizon ${sq#*:}" "autobg:--method auto --background" ||
+            solve_all ${sq%%:*} $T/sq.aug refined "autoon:--method auto --horizon 0" "autobg:--method auto --background" ||
             { echo "organs.sh: ${sq%%:*} failed" >&2; status=1; }
     done
 fi
@@ -128,7 +129,7 @@ for sc in $SPLIT_SCENES; do
         $B/meshload $msh --fix fixed --load $load | $B/factor --no-cond |
             $B/cut --plane $plane --advance 0,0,-1 --per-step 1 --steps $STEPS1 --pull 0.1 > $T/c.aug ||
             { echo "organs.sh: $sc tet$split failed" >&2; status=1; continue; }
-        solve_all ${sc}_tet$split $T/c.aug one "autoh:--method auto --horizon $STEPS1" "autobg:--method auto --background"
+        solve_all ${sc}_tet$split $T/c.aug one "autoon:--method auto --horizon 0" "autobg:--method auto --background"
     done
 done
 

@@ -31,6 +31,7 @@ static const char *help =
     "  --bg-lag N           swap exactly N steps after each start (deterministic)\n"
     "  --horizon N          auto: the stream brings N steps (a pre-defined cut, e.g. cut\n"
     "                       --steps N); no re-factorization the steps left cannot pay back\n"
+    "                       (default: the stream's pLAN; 0: unknown, the online rule)\n"
     "  --output all|surface|SET  nodes whose displacement is solved and written\n"
     "  --output node:ID[,ID...]  only these nodes (0-based, as in the stream), e.g. a\n"
     "                       haptic tool contact\n"
@@ -108,7 +109,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     aug_solver_opts_default(&o->so);
     o->frames = 1;
     aug_solver_opts *so = &o->so;
-    int nlag = 0, nrtol = 0, max_n = (int)so->cgm.max_n, horizon = 0;
+    int nlag = 0, nrtol = 0, max_n = (int)so->cgm.max_n, horizon = -1;
     const aug_opt opt[] = {
         {AUG_OPT_CALL("--method", methods, so,
                       "a comma list of auto,amps,gmres,refactor,rowupdate,pcg,cgm-cov,cgm-es,cgm-log,cgm-as")},
@@ -117,7 +118,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},
         {AUG_OPT_FLAG("--background", &so->background)},
         {AUG_OPT_INT("--bg-lag", &so->bg_lag, 1, 1000000, "a count >= 1"), .given = &nlag},
-        {AUG_OPT_INT("--horizon", &horizon, 1, 1000000000, "a count >= 1")},
+        {AUG_OPT_INT("--horizon", &horizon, 0, 1000000000, "a count >= 0")},
         {AUG_OPT_STRING("--output", &o->output, "all, surface, a set name or node:ID[,ID...]"), .flags = AUG_OPT_NONEMPTY},
         {AUG_OPT_INT("--refine-iter", &so->refine_iter, 0, 100, "0 to 100")},
         {AUG_OPT_REAL("--refine-tol", &so->refine_tol, 0, 1, "a number in [0, 1)"),

@@ -648,7 +648,8 @@ typedef struct aug_solver_opts {
     int pcg_prec;        /* AUG_PCG_NONE, AUG_PCG_JACOBI (default) or AUG_PCG_IC */
     double auto_prior;   /* auto: the re-factorization time (ms) assumed until one
                             is measured; 0: AUG_AUTO_PRIOR full solves */
-    int64_t horizon;     /* auto: the steps the stream brings (0: unknown) */
+    int64_t horizon;     /* auto: the steps the stream brings (0: unknown, the
+                            stream's pLAN ignored; < 0: the pLAN's, the default) */
     int amps_correct;    /* amps: correction sweeps on H at most (0: none) */
     int amps_pivot;      /* amps: AUG_PIVOT_S2 (default), _ALT or _AUTO */
     int amps_field_memo; /* amps: Kbar^-1 Hbar w by the memo's V (1) or a forward solve (0) */

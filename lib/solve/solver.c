@@ -35,6 +35,7 @@ void aug_solver_opts_default(aug_solver_opts *o)
     memset(o, 0, sizeof *o);
     o->nmeth = 1;
     o->order[0] = AUG_M_AUTO;
+    o->horizon = -1; /* the stream's pLAN */
     o->tol = 1e-8;
     o->maxit = 10000;
     o->restart = 100;
@@ -620,6 +621,7 @@ void aug_solver_plan(aug_solver *s, int32_t last_step) { s->plan_last = last_ste
 static int64_t steps_left(const aug_solver *s)
 {
     if (s->o.horizon > 0) return s->nstep <= s->o.horizon ? s->o.horizon - s->nstep + 1 : 0;
+    if (s->o.horizon == 0) return 0;
     return s->plan_last >= s->step ? (int64_t)s->plan_last - s->step + 1 : 0;
 }
 
@@ -648,7 +650,7 @@ static void auto_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
     put(st, "est_amps_ms", a->est_amps);
     put(st, "est_factor_ms", a->est_factor);
     put(st, "excess_ms", a->excess);
-    if (s->o.horizon > 0 || s->plan_last > 0) put(st, "steps_left", (double)steps_left(s));
+    if (s->o.horizon > 0 || (s->o.horizon < 0 && s->plan_last > 0)) put(st, "steps_left", (double)steps_left(s));
     put(st, "bg_start", a->want_bg);
     put(st, "est_s2_flops", a->w_next);
     put(st, "base_no", a->nbase + (a->choice == AUG_AUTO_REFACTOR));
