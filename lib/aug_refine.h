@@ -169,9 +169,15 @@ typedef struct aug_refiner {
     int64_t capc;
     int32_t *own;         /* mem3: base element -> the cut-view element it still is, -1 */
     int64_t capown;
+    int32_t *corig, *borig; /* mem3: cut-view / base element -> the original triangle it lies in */
+    int64_t capcorig, capborig;
+    int32_t *conn0;       /* mem3: the original triangles (ne0) */
+    int64_t ne0;
     int64_t nn0, nfree0;  /* original nodes and free DOFs */
     int32_t *map0;        /* aug_dofmap of the original mesh */
     const aug_dynp *dyn;  /* a dynamic stream's DYNP (updates of A, K, M), or NULL */
+    double route_tol;     /* > 0 (mem3's local refiners): a cut edge passes through the region's
+                             inner fine nodes within route_tol of its length (refine_region2d.c) */
     aug_refine_opt opt;
     int32_t *last;        /* 3-D look-ahead: per cut-view element, the last step whose
                              MDLT changes it (aug_refiner_plan), -1 none */
@@ -202,15 +208,27 @@ struct aug_bdelta;
 int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const struct aug_bdelta *bc,
                     const double *seg, int64_t nseg, aug_mdelta *out, struct aug_bdelta *outbc,
                     aug_update *u, aug_refine_q *q, aug_err *e);
-/* The same for a membrane (mem3) sheet (lib/refine/refine_mem3.c): the cut's
-   nodes keep their numbers (bc copied), refinement by longest-edge bisection
-   and coplanar flips in each triangle's plane; seg is not needed (the cut's
-   lips are boundary edges, never split). */
+/* The same for a membrane (mem3) sheet (lib/refine/refine_mem3.c): a step
+   whose triangles refine has not changed before is replayed onto the refined
+   mesh, one through refined triangles re-triangulated per original triangle
+   in its plane (aug_refine_mem3_region); then longest-edge bisection and
+   coplanar flips in each triangle's plane; seg (3-D) as for 2-D. */
 /* a[0..need) available (new entries -1): 0 or -1 (memory) */
 int aug_refine_grow_i32(int32_t **a, int64_t *cap, int64_t need);
 int aug_refine_mem3_init(aug_refiner *r);
-int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const struct aug_bdelta *bc, aug_mdelta *out,
-                         struct aug_bdelta *outbc, aug_update *u, aug_refine_q *q, aug_err *e);
+int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const struct aug_bdelta *bc, const double *seg,
+                         int64_t nseg, aug_mdelta *out, struct aug_bdelta *outbc, aug_update *u, aug_refine_q *q,
+                         aug_err *e);
+/* mem3, a cut step through refined triangles (lib/refine/refine_mem3_region.c):
+   r->cut holds the step already (oldc: the old connectivity of d->elem; nnc,
+   nec: the cut's counts before; r->corig of its pieces set), ed an edit of
+   r->base. The step's new nodes get base nodes in the cut's order (r->cnode;
+   a point near an earlier refinement node is realised at it); per original
+   triangle touched, in its plane, its refined triangles and the step's pieces
+   in it are re-triangulated by aug_refine_region2d and written back (borig);
+   fine nodes left shared by two lips get copies. */
+int aug_refine_mem3_region(aug_refiner *r, aug_edit *ed, const aug_mdelta *d, const int32_t *oldc, int64_t nnc,
+                           int64_t nec, const double *seg, int64_t nseg, aug_refine_q *q, aug_err *e);
 /* A step without MDLT: translate bc only (and build its UPDT when u != NULL). */
 int aug_refine_bc_only(aug_refiner *r, int32_t step, const struct aug_bdelta *bc,
                        struct aug_bdelta *outbc, aug_update *u, aug_err *e);

@@ -94,8 +94,8 @@ int aug_refine_records(aug_refiner *r, const aug_rec *recs, int n, int32_t step,
         const aug_rec *rec = &recs[g.imd];
         if ((rc = aug_read_mdelta(rec, dim, nv, &d, e))) goto done;
         if ((rc = r->base.etype == AUG_MEM3
-                      ? aug_refine_step_mem3(r, &d, g.ibc >= 0 ? &bc : NULL, &out, &outbc, g.iup >= 0 ? &u : NULL,
-                                             &q, e)
+                      ? aug_refine_step_mem3(r, &d, g.ibc >= 0 ? &bc : NULL, g.seg, g.nseg, &out, &outbc,
+                                             g.iup >= 0 ? &u : NULL, &q, e)
                       : aug_refine_step(r, &d, g.ibc >= 0 ? &bc : NULL, g.seg, g.nseg, &out, &outbc,
                                         g.iup >= 0 ? &u : NULL, &q, e))) {
             rc = at(e, rec);
@@ -111,7 +111,7 @@ int aug_refine_records(aug_refiner *r, const aug_rec *recs, int n, int32_t step,
         d0.parent = d0.elem = d0.conn = d0.conn_add = d0.mat_add = i0;
         d0.x = x0;
         if ((rc = r->base.etype == AUG_MEM3
-                      ? aug_refine_step_mem3(r, &d0, &bc, &out, &outbc, g.iup >= 0 ? &u : NULL, &q, e)
+                      ? aug_refine_step_mem3(r, &d0, &bc, NULL, 0, &out, &outbc, g.iup >= 0 ? &u : NULL, &q, e)
                       : aug_refine_bc_only(r, recs[g.ibc].step, &bc, &outbc, g.iup >= 0 ? &u : NULL, e))) {
             rc = at(e, &recs[g.ibc]);
             goto done;

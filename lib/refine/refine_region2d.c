@@ -180,6 +180,7 @@ typedef struct reg {
     int32_t *w2l, *l2w;         /* work node <-> local vertex */
     int32_t *loc;               /* cut node -> local vertex of its place, -1 */
     int32_t *firstp;            /* new cut node -> a piece holding it */
+    unsigned char *copy;        /* new cut node: a copy of a located parent */
     int32_t *cptr, *cind;       /* local vertex -> (piece, corner) of the cut nodes there */
     int32_t nfin;
     int32_t *fin, *ftag;        /* final triangles: work nodes, material */
@@ -265,9 +266,11 @@ static int build_local(reg *g)
     return 0;
 }
 
-/* where the pieces' nodes are: old ones at their work node, copies at their
-   parent's place, new points located from a piece holding them (so a point on
-   an old slit goes to its side) and inserted by Bowyer-Watson */
+/* where the pieces' nodes are: old ones (also the old corners of the changed
+   elements) at their work node, copies at their parent's place, new points
+   located from a piece holding them (so a point on an old slit goes to its side)
+   and inserted by Bowyer-Watson; a copy whose parent has no place in the region
+   (a membrane's triangle holding the copy's side only) is inserted as a point */
 static int insert_nodes(reg *g)
 {
     const aug_mesh *C = g->C;
@@ -289,10 +292,15 @@ static int insert_nodes(reg *g)
             }
         }
     }
+    for (int64_t k = 0; k < 3 * d->nmod; k++) {
+        int32_t c = g->oldc[k], wn = c < g->nnc ? g->r->cnode[c] : -1;
+        if (g->loc[c] < 0 && wn >= 0 && g->w2l[wn] >= 0) g->loc[c] = g->w2l[wn];
+    }
     for (int64_t i = 0; i < d->nnew; i++) {
         int32_t c = (int32_t)(g->nnc + i), par = d->parent[i];
         const double *x = CX(g->r, c);
-        if (!memcmp(x, CX(g->r, par), 2 * sizeof *x)) { /* a copy: same place as its parent */
+        g->copy[i] = !memcmp(x, CX(g->r, par), 2 * sizeof *x) && g->loc[par] >= 0;
+        if (g->copy[i]) { /* a copy: same place as its parent */
             g->loc[c] = g->loc[par];
             continue;
         }
@@ -323,11 +331,83 @@ static int insert_nodes(reg *g)
     return 0;
 }
 
+typedef struct routed {
+    double u;
+    int32_t v;
+} routed;
+
+static int cmp_routed(const void *x, const void *y)
+{
+    const routed *a = x, *b = y;
+    return a->u < b->u ? -1 : a->u > b->u ? 1 : (a->v > b->v) - (a->v < b->v);
+}
+
+/* with r->route_tol > 0 (a membrane's triangle, refine_mem3_region.c): the cut
+   edge la-lb recovered through the fine nodes (free[v]: no cut node there, off
+   the region's boundary) within route_tol of its length, in their order along
+   it: an earlier refinement node that close would leave a cap triangle (an
+   angle near 180 degrees, not bad by the aspect bound) or a sliver that spoils
+   K_t; the lip then passes through it and it is separated as a fine node */
+static int recover_routed(reg *g, int32_t la, int32_t lb, const unsigned char *free_v)
+{
+    const aug_cdt *c = &g->cdt;
+    const double *pa = c->xy + 2 * la, *pb = c->xy + 2 * lb;
+    double dx = pb[0] - pa[0], dy = pb[1] - pa[1], l2 = dx * dx + dy * dy, len = sqrt(l2);
+    routed *rt = NULL;
+    int32_t n = 0, cap = 0;
+    for (int32_t v = 0; v < c->nv; v++) {
+        if (!free_v[v]) continue;
+        const double *p = c->xy + 2 * v;
+        double u = ((p[0] - pa[0]) * dx + (p[1] - pa[1]) * dy) / l2;
+        if (!(u > g->r->route_tol && u < 1 - g->r->route_tol) ||
+            !(fabs(aug_orient2d(pa, pb, p)) / len < g->r->route_tol * len))
+            continue;
+        if (n == cap) {
+            cap = cap ? 2 * cap : 8;
+            routed *q = aug_realloc(rt, (size_t)cap * sizeof *q);
+            if (!q) {
+                free(rt);
+                return AUG_ENOMEM;
+            }
+            rt = q;
+        }
+        rt[n].u = u, rt[n].v = v, n++;
+    }
+    qsort(rt, (size_t)n, sizeof *rt, cmp_routed);
+    int rc = 0;
+    int32_t from = la;
+    for (int32_t k = 0; k <= n && !rc; k++) {
+        int32_t to = k < n ? rt[k].v : lb;
+        rc = aug_cdt_recover(&g->cdt, from, to);
+        from = to;
+    }
+    free(rt);
+    return rc;
+}
+
 /* constraints: the pieces' cut edges (open in the cut mesh, or on the path),
-   recovered and fixed; then Lawson flips: constrained Delaunay */
+   recovered and fixed (recover_routed on a membrane); then Lawson flips:
+   constrained Delaunay */
 static int recover_cuts(reg *g)
 {
     const aug_mesh *C = g->C;
+    unsigned char *free_v = NULL;
+    if (g->r->route_tol > 0) { /* fine nodes off the region's boundary */
+        free_v = aug_malloc((size_t)g->cdt.nv + 1);
+        if (!free_v) return NOMEM(g);
+        for (int32_t v = 0; v < g->cdt.nv; v++) free_v[v] = 1;
+        for (int64_t k = 0; k < g->np; k++)
+            for (int j = 0; j < 3; j++) {
+                int32_t lv = g->loc[C->conn[3 * (int64_t)g->piece[k] + j]];
+                if (lv >= 0) free_v[lv] = 0;
+            }
+        for (int32_t t = 0; t < g->cdt.nt; t++) {
+            const int32_t *v = g->cdt.tri + 3 * t;
+            if (v[0] < 0) continue;
+            for (int j = 0; j < 3; j++)
+                if (aug_cdt_across(&g->cdt, t, v[j], v[(j + 1) % 3]) < 0) free_v[v[j]] = free_v[v[(j + 1) % 3]] = 0;
+        }
+    }
     for (int64_t k = 0; k < g->np; k++) {
         const int32_t *v = C->conn + 3 * (int64_t)g->piece[k];
         for (int j = 0; j < 3; j++) {
@@ -337,15 +417,21 @@ static int recover_cuts(reg *g)
             if (!open && !on_path(CX(g->r, a), CX(g->r, b), g->seg, g->nseg)) continue;
             int32_t la = g->loc[a], lb = g->loc[b];
             if (la < 0 || lb < 0 || la == lb || aug_edgemap_get(&g->done, la, lb)) continue;
-            if (!aug_edgemap_put(&g->done, la, lb)) return NOMEM(g);
-            int rc = aug_cdt_recover(&g->cdt, la, lb);
-            if (rc)
+            if (!aug_edgemap_put(&g->done, la, lb)) {
+                free(free_v);
+                return NOMEM(g);
+            }
+            int rc = free_v ? recover_routed(g, la, lb, free_v) : aug_cdt_recover(&g->cdt, la, lb);
+            if (rc) {
+                free(free_v);
                 return rc == AUG_ENOMEM ? NOMEM(g)
                                         : aug_err_set(g->e, rc, -1, "MDLT",
                                                       "step %d: cut edge %d-%d crosses a fixed edge of the "
                                                       "refined mesh", g->d->step, (int)a, (int)b);
+            }
         }
     }
+    free(free_v);
     return aug_cdt_legalize(&g->cdt) ? NOMEM(g) : 0;
 }
 
@@ -364,7 +450,7 @@ static int new_nodes(reg *g)
         if (wpar < 0)
             return aug_err_set(g->e, AUG_EDATA, -1, "MDLT", "step %d: parent of new node %lld unused",
                                d->step, (long long)i);
-        int copy = !memcmp(CX(g->r, c), CX(g->r, par), 2 * sizeof(double));
+        int copy = g->copy[i];
         if (copy || g->l2w[lv] < 0) {
             int32_t wn = aug_work_node(g->W, CX(g->r, c), wpar);
             if (wn < 0) return NOMEM(g);
@@ -616,8 +702,9 @@ int aug_refine_region2d(aug_refiner *r, const aug_mdelta *d, const int32_t *oldc
     g.F = aug_malloc((size_t)(g.W->m.ne + 1) * sizeof *g.F);
     g.loc = aug_malloc((size_t)(g.C->nn + 1) * sizeof *g.loc);
     g.firstp = aug_malloc((size_t)(d->nnew + 1) * sizeof *g.firstp);
+    g.copy = aug_malloc((size_t)(d->nnew + 1));
     int rc;
-    if (!g.piece || !g.w2l || !g.mark || !g.F || !g.loc || !g.firstp || aug_cdt_init(&g.cdt) ||
+    if (!g.piece || !g.w2l || !g.mark || !g.F || !g.loc || !g.firstp || !g.copy || aug_cdt_init(&g.cdt) ||
         aug_edgemap_init(&g.done, 64) || grid_build(&g.G, g.W)) {
         rc = NOMEM(&g);
         goto out;
@@ -638,6 +725,7 @@ out:
     free(g.F);
     free(g.loc);
     free(g.firstp);
+    free(g.copy);
     free(g.l2w);
     free(g.cptr);
     free(g.cind);

@@ -112,6 +112,9 @@ void aug_refiner_free(aug_refiner *r)
     free(r->cel);
     free(r->cnode);
     free(r->own);
+    free(r->corig);
+    free(r->borig);
+    free(r->conn0);
     free(r->map0);
     free(r->last);
     memset(r, 0, sizeof *r);
