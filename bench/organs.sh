@@ -55,7 +55,7 @@ solve_all() {
     s_files=""
     for s_m in $(echo $METHODS | tr , ' ') "$@"; do
         s_name=${s_m%%:*}; s_opts=""; case $s_m in *:*) s_opts=${s_m#*:};; esac
-        [ $s_m = ampsbg ] && s_opts="--method amps --background"
+        [ "$s_m" = ampsbg ] && s_opts="--method amps --background"
         [ -n "$s_opts" ] || s_opts="--method $s_m"
         s_f=$O/organs_${s_sc}_${s_kind}_$s_name.csv
         # shellcheck disable=SC2086
