@@ -5,19 +5,19 @@
 # Also the text inputs of cut (path, blade and STL files) for fuzz_inputs.c.
 # Run from the repository root after `make all`: sh fuzz/make_corpus.sh
 set -eu
-B=bin; O=fuzz/corpus; T=${TMPDIR:-/tmp}/augcut-corpus.$$
-mkdir -p "$O" "$T"
+B=bin; OUT=fuzz/corpus; T=${TMPDIR:-/tmp}/augcut-corpus.$$; O=$T/corpus
+# written aside and moved in only when every stage succeeded
+mkdir -p "$OUT" "$T" "$O"
 trap 'rm -rf "$T"' EXIT
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 gmsh -3 -setnumber N 1 -format msh41 -v 0 -o "$T/brick.msh" scenes/brick.geo > /dev/null
 gmsh -3 -setnumber h 2 -format msh41 -v 0 -o "$T/beam.msh" scenes/beam.geo > /dev/null
 sed 's/^n = 50;/n = 4;/' scenes/square.geo > "$T/square.geo"
 gmsh -2 -format msh41 -v 0 -o "$T/square.msh" "$T/square.geo" > /dev/null
-rm -f "$O"/*
 
 # 3-D: mesh, factor with mass matrices, planar cut with constraints, solve, refine
 $B/meshload "$T/brick.msh" --fix fixed --load top:0,0,-1 --output top > "$O/brick_mesh.aug"
-$B/factor --mass --lumped-mass < "$O/brick_mesh.aug" > "$O/brick_factor.aug"
+$B/factor --mass consistent --lumped-mass < "$O/brick_mesh.aug" > "$O/brick_factor.aug"
 $B/cut --plane 1,0,0,0.5 --steps 2 --pull 0.1 --stats --constrain 'box:0,0,1.9,1,1,2@2' \
     < "$O/brick_factor.aug" > "$O/brick_cut.aug"
 $B/solve-aug --method amps,gmres < "$O/brick_cut.aug" > "$O/brick_solve.aug"
@@ -48,3 +48,5 @@ $B/refine --min-angle 20 < "$O/square_cut.aug" > "$O/square_refine.aug"
 build/tests/stream_io > /dev/null
 AUG_WRITE_SEED="$O/all_records_deflated.aug" build/tests/stream_io
 du -cb "$O"/* | tail -1
+rm -f "$OUT"/*
+mv "$O"/* "$OUT"/
