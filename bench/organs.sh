@@ -27,7 +27,8 @@
 # beam h=64 and brick N=8 (a few minutes; the full run: beam h=256, bricks N=16
 # and N=20, the sizes of the goals of issue 15); SCENES, STEPS1, STEPSM, SQSTEPS,
 # SQLONG, METHODS, SPLIT_SCENES may be set (SCENES=none, SPLIT_SCENES=none and
-# SQUARE=0 skip the organs, the split scenes and both squares).
+# SQUARE=0 skip the organs, the split scenes and both squares); REPEAT (default
+# 3, QUICK 1): the rounds of which the median run by total is kept.
 cd "$(dirname "$0")/.." || exit 2
 B=bin; S=build/scenes; O=bench/out; T=${TMPDIR:-/tmp}/organs.$$; mkdir -p $O $T
 trap 'rm -rf $T' EXIT
@@ -37,10 +38,11 @@ TOOLS="python3 bench/organs_tools.py"
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 if [ "${QUICK:-0}" = 1 ]; then
     SCENES=${SCENES:-"liver sphere3"}; STEPS1=${STEPS1:-8}; STEPSM=${STEPSM:-4}; SQSTEPS=${SQSTEPS:-4}; SQLONG=${SQLONG:-16}
-    SPLIT_SCENES=${SPLIT_SCENES:-"beam_h64 brick_n8"}
+    SPLIT_SCENES=${SPLIT_SCENES:-"beam_h64 brick_n8"}; REPEAT=${REPEAT:-1}
 fi
 SCENES=${SCENES:-"brain bunny liver sphere3"}
 STEPS1=${STEPS1:-64}; STEPSM=${STEPSM:-16}; SQSTEPS=${SQSTEPS:-8}; SQLONG=${SQLONG:-32}
+REPEAT=${REPEAT:-3}
 SPLIT_SCENES=${SPLIT_SCENES:-"beam_h256 brick_n16 brick_n20"}
 for t in meshload factor cut refine solve-aug stats; do
     [ -x $B/$t ] || { echo "organs.sh: $B/$t missing (make first)" >&2; exit 1; }
@@ -48,20 +50,33 @@ done
 SUM=$O/organs_summary.csv; : > $SUM
 status=0
 
-# each method of METHODS (and extra runs "name:options") on stream $2, CSVs
-# $O/organs_$1_NAME.csv, then the summary rows of scene $1 kind $3
+# each method of METHODS (and extra runs "name:options") on stream $2, in
+# REPEAT rounds (each round runs every method once, so that a slow spell of
+# the machine hits them alike); per method the round whose total over the
+# steps is the median is kept as $O/organs_$1_NAME.csv (organs_tools.py
+# median_run), then the summary rows of scene $1 kind $3
 solve_all() {
     s_sc=$1 s_in=$2 s_kind=$3; shift 3
-    s_files=""
+    s_files="" s_bad=""
+    s_r=1
+    while [ $s_r -le $REPEAT ]; do
+        for s_m in $(echo $METHODS | tr , ' ') "$@"; do
+            s_name=${s_m%%:*}; s_opts=""; case $s_m in *:*) s_opts=${s_m#*:};; esac
+            [ "$s_m" = ampsbg ] && s_opts="--method amps --background"
+            [ -n "$s_opts" ] || s_opts="--method $s_m"
+            case " $s_bad " in *" $s_name "*) continue;; esac
+            # shellcheck disable=SC2086
+            if ! $B/solve-aug $s_opts --time-full --on-singular report < $s_in 2> $T/err | $B/stats --csv > $T/r_${s_name}_$s_r.csv 2>> $T/err
+            then echo "organs.sh: $s_sc $s_kind $s_name: $(tail -1 $T/err)" >&2; status=1; s_bad="$s_bad $s_name"; fi
+        done
+        s_r=$((s_r + 1))
+    done
     for s_m in $(echo $METHODS | tr , ' ') "$@"; do
-        s_name=${s_m%%:*}; s_opts=""; case $s_m in *:*) s_opts=${s_m#*:};; esac
-        [ "$s_m" = ampsbg ] && s_opts="--method amps --background"
-        [ -n "$s_opts" ] || s_opts="--method $s_m"
+        s_name=${s_m%%:*}
+        case " $s_bad " in *" $s_name "*) continue;; esac
         s_f=$O/organs_${s_sc}_${s_kind}_$s_name.csv
-        # shellcheck disable=SC2086
-        if $B/solve-aug $s_opts --time-full --on-singular report < $s_in 2> $T/err | $B/stats --csv > $s_f 2>> $T/err
-        then s_files="$s_files $s_f"
-        else echo "organs.sh: $s_sc $s_kind $s_name: $(tail -1 $T/err)" >&2; status=1; fi
+        $TOOLS median_run $s_f $T/r_${s_name}_*.csv && s_files="$s_files $s_f"
+        rm -f $T/r_${s_name}_*.csv
     done
     [ -n "$s_files" ] && $TOOLS summary "$s_sc" "$s_kind" $SUM $s_files
 }

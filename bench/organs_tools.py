@@ -11,8 +11,13 @@
       over refactor's, steps refined, auto's re-factorizations and
       background swaps; rows appended to OUT (header when OUT is empty). A
       step is a row of solve-aug's method (the stream's other records, e.g.
-      refine's per-step rows, are not steps)."""
-import csv, math, os, statistics, sys
+      refine's per-step rows, are not steps).
+  organs_tools.py median_run OUT CSV...
+      copies to OUT the run (stats --csv of one solve-aug run) whose total
+      time over its steps is the median of the runs given (the repeated
+      rounds of organs.sh)."""
+import csv
+import shutil, math, os, statistics, sys
 
 COLS = ("scene,kind,n,method,steps,median_ms,full_solve_ms,ratio_full,ratio_best_fixed,ratio_auto,"
         "total_ms,total_over_best,max_relres,median_relres,relres_over_refactor,refined_steps,refactor_steps,"
@@ -85,8 +90,19 @@ def summary(scene, kind, out, files):
                 refined, refac, swaps))
 
 
+def median_run(out, files):
+    """copy to out the run (a stats --csv file) whose total time over its
+    solve rows is the median of the runs (the lower middle of an even count)"""
+    def total(path):
+        return sum(num(r, "time_ms") for r in csv.DictReader(open(path)) if r["method"] in SOLVE)
+    ranked = sorted(files, key=lambda f: (total(f), f))
+    shutil.copyfile(ranked[(len(ranked) - 1) // 2], out)
+
+
 def main():
-    if len(sys.argv) >= 3 and sys.argv[1] == "box":
+    if len(sys.argv) >= 4 and sys.argv[1] == "median_run":
+        median_run(sys.argv[2], sys.argv[3:])
+    elif len(sys.argv) >= 3 and sys.argv[1] == "box":
         box(sys.argv[2])
     elif len(sys.argv) >= 6 and sys.argv[1] == "summary":
         summary(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5:])
