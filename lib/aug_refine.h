@@ -58,6 +58,17 @@ int aug_cdt_legalize(aug_cdt *c);
 int aug_cdt_incircle(const aug_cdt *c, const double *a, const double *b, const double *d,
                      const double *p);
 double aug_orient2d(const double *a, const double *b, const double *p);
+/* 3-vectors of the membrane refiner (refine_mem3.c, refine_mem3_region.c):
+   r = a - b, a . b, r = a x b */
+static inline void aug_sub3(const double *a, const double *b, double *r)
+{
+    r[0] = a[0] - b[0], r[1] = a[1] - b[1], r[2] = a[2] - b[2];
+}
+static inline double aug_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static inline void aug_cross3(const double *a, const double *b, double *r)
+{
+    r[0] = a[1] * b[2] - a[2] * b[1], r[1] = a[2] * b[0] - a[0] * b[2], r[2] = a[0] * b[1] - a[1] * b[0];
+}
 /* sign of the in-circle determinant of p against (a, b, d) counter-clockwise,
    0 within eps times its permanent (co-circular ties) */
 int aug_incircle(const double *a, const double *b, const double *d, const double *p, double eps);

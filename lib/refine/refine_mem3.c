@@ -7,13 +7,6 @@
 #include "aug_cut.h"
 #include "aug_refine.h"
 
-static void sub(const double *a, const double *b, double *r) { r[0] = a[0] - b[0], r[1] = a[1] - b[1], r[2] = a[2] - b[2]; }
-static double dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-static void cross(const double *a, const double *b, double *r)
-{
-    r[0] = a[1] * b[2] - a[2] * b[1], r[1] = a[2] * b[0] - a[0] * b[2], r[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* triangle t of the edit in its own plane: edge lengths L[k] of (c[k], c[k+1]),
    aspect = l_max / l_min (thesis 003 eq. 3.10), the least angle (degrees),
    the unit normal; returns the local index of the longest edge */
@@ -22,8 +15,8 @@ static int tri_geom(const aug_edit *ed, int64_t t, double *aspect, double *amin,
     const int32_t *c = aug_edit_conn(ed, t);
     double v[3][3], L[3];
     for (int k = 0; k < 3; k++) {
-        sub(aug_edit_x(ed, c[(k + 1) % 3]), aug_edit_x(ed, c[k]), v[k]);
-        L[k] = sqrt(dot(v[k], v[k]));
+        aug_sub3(aug_edit_x(ed, c[(k + 1) % 3]), aug_edit_x(ed, c[k]), v[k]);
+        L[k] = sqrt(aug_dot3(v[k], v[k]));
     }
     int lo = 0, hi = 0;
     for (int k = 1; k < 3; k++) lo = L[k] < L[lo] ? k : lo, hi = L[k] > L[hi] ? k : hi;
@@ -31,11 +24,11 @@ static int tri_geom(const aug_edit *ed, int64_t t, double *aspect, double *amin,
     *amin = 180;
     for (int k = 0; k < 3; k++) { /* the angle at c[k] between v[k] and -v[k-1] */
         const double *p = v[k], *q = v[(k + 2) % 3];
-        double cs = -dot(p, q) / (L[k] * L[(k + 2) % 3]);
+        double cs = -aug_dot3(p, q) / (L[k] * L[(k + 2) % 3]);
         *amin = fmin(*amin, acos(fmax(-1, fmin(1, cs))) * 180 / M_PI);
     }
-    cross(v[0], v[2], n);
-    double l = sqrt(dot(n, n));
+    aug_cross3(v[0], v[2], n);
+    double l = sqrt(aug_dot3(n, n));
     for (int k = 0; k < 3; k++) n[k] = -n[k] / l;
     return hi;
 }
@@ -89,12 +82,12 @@ static int legalize(aug_edit *ed, const int32_t *orig, int64_t t, int32_t r, int
     double a0, m0, n0[3], a1, m1, n1[3];
     tri_geom(ed, t, &a0, &m0, n0);
     tri_geom(ed, u, &a1, &m1, n1);
-    if (dot(n0, n1) < 1 - 1e-10) return 0;
+    if (aug_dot3(n0, n1) < 1 - 1e-10) return 0;
     const double *X[4] = {aug_edit_x(ed, r), aug_edit_x(ed, p), aug_edit_x(ed, q), aug_edit_x(ed, s)};
     double e1[3], e2[3], f1[3], f2[3];
-    sub(X[1], X[0], e1), sub(X[2], X[0], e2), sub(X[1], X[3], f1), sub(X[2], X[3], f2);
-    double ar = acos(fmax(-1, fmin(1, dot(e1, e2) / sqrt(dot(e1, e1) * dot(e2, e2)))));
-    double as = acos(fmax(-1, fmin(1, dot(f1, f2) / sqrt(dot(f1, f1) * dot(f2, f2)))));
+    aug_sub3(X[1], X[0], e1), aug_sub3(X[2], X[0], e2), aug_sub3(X[1], X[3], f1), aug_sub3(X[2], X[3], f2);
+    double ar = acos(fmax(-1, fmin(1, aug_dot3(e1, e2) / sqrt(aug_dot3(e1, e1) * aug_dot3(e2, e2)))));
+    double as = acos(fmax(-1, fmin(1, aug_dot3(f1, f2) / sqrt(aug_dot3(f1, f1) * aug_dot3(f2, f2)))));
     if (!(ar + as > M_PI * (1 + 1e-12))) return 0;
     int32_t t0[3] = {r, p, s}, t1[3] = {r, s, q};
     if (aug_edit_set(ed, t, t0) || aug_edit_set(ed, u, t1)) return -1;
@@ -175,17 +168,17 @@ static int64_t holder3(const aug_mesh *m, const int32_t *oldc, int64_t n, const 
         const double *a = m->x + 3 * (int64_t)oldc[3 * k], *b = m->x + 3 * (int64_t)oldc[3 * k + 1],
                      *c = m->x + 3 * (int64_t)oldc[3 * k + 2];
         double u[3], v[3], w[3], nn[3], t[3], l = INFINITY;
-        sub(b, a, u), sub(c, a, v);
-        cross(u, v, nn);
-        double A = dot(nn, nn);
+        aug_sub3(b, a, u), aug_sub3(c, a, v);
+        aug_cross3(u, v, nn);
+        double A = aug_dot3(nn, nn);
         const double *X[3] = {a, b, c};
         for (int j = 0; j < 3; j++) {
-            sub(X[(j + 2) % 3], X[(j + 1) % 3], u), sub(p, X[(j + 1) % 3], w);
-            cross(u, w, t);
-            l = fmin(l, dot(t, nn) / A);
+            aug_sub3(X[(j + 2) % 3], X[(j + 1) % 3], u), aug_sub3(p, X[(j + 1) % 3], w);
+            aug_cross3(u, w, t);
+            l = fmin(l, aug_dot3(t, nn) / A);
         }
-        sub(p, a, w);
-        double off = fabs(dot(w, nn)) / A; /* distance / sqrt(2 area) ... relative */
+        aug_sub3(p, a, w);
+        double off = fabs(aug_dot3(w, nn)) / A; /* distance / sqrt(2 area) ... relative */
         if (l - off > bb) bb = l - off, best = k;
     }
     return best;
@@ -207,9 +200,9 @@ static int hopeless_mem3(const aug_edit *ed, const int32_t *orig, int64_t t, dou
     const int32_t *c = aug_edit_conn(ed, t);
     for (int k = 0; k < 3; k++) {
         double u[3], v[3];
-        sub(aug_edit_x(ed, c[(k + 1) % 3]), aug_edit_x(ed, c[k]), u);
-        sub(aug_edit_x(ed, c[(k + 2) % 3]), aug_edit_x(ed, c[k]), v);
-        double ang = acos(fmax(-1, fmin(1, dot(u, v) / sqrt(dot(u, u) * dot(v, v))))) * 180 / M_PI;
+        aug_sub3(aug_edit_x(ed, c[(k + 1) % 3]), aug_edit_x(ed, c[k]), u);
+        aug_sub3(aug_edit_x(ed, c[(k + 2) % 3]), aug_edit_x(ed, c[k]), v);
+        double ang = acos(fmax(-1, fmin(1, aug_dot3(u, v) / sqrt(aug_dot3(u, u) * aug_dot3(v, v))))) * 180 / M_PI;
         if (ang < thmin && stiff_edge(ed, orig, t, c[k], c[(k + 1) % 3]) && stiff_edge(ed, orig, t, c[(k + 2) % 3], c[k])) {
             return 1;
         }
@@ -250,9 +243,9 @@ static int nfix_mem3(const aug_edit *ed, int32_t q)
 static double orient_n(const double *a, const double *b, const double *p, const double *n)
 {
     double u[3], v[3], w[3];
-    sub(b, a, u), sub(p, a, v);
-    cross(u, v, w);
-    return dot(w, n);
+    aug_sub3(b, a, u), aug_sub3(p, a, v);
+    aug_cross3(u, v, w);
+    return aug_dot3(w, n);
 }
 
 /* Rivara's Lepp-Delaunay step on an interior terminal edge (a, b) whose two
@@ -296,8 +289,8 @@ static int32_t centroid_mem3(aug_refiner *r, aug_edit *ed, int32_t a, int32_t b)
     for (int k = 1; k < 4; k++) {
         int sk = nfix_mem3(ed, q4[k]), sp = nfix_mem3(ed, par);
         double u[3], v[3];
-        sub(aug_edit_x(ed, q4[k]), cen, u), sub(aug_edit_x(ed, par), cen, v);
-        double dk = dot(u, u), dp = dot(v, v);
+        aug_sub3(aug_edit_x(ed, q4[k]), cen, u), aug_sub3(aug_edit_x(ed, par), cen, v);
+        double dk = aug_dot3(u, u), dp = aug_dot3(v, v);
         if (sk < sp || (sk == sp && (dk < dp || (dk == dp && q4[k] < par)))) par = q4[k];
     }
     int32_t m = aug_edit_node(ed, cen, par);
@@ -449,17 +442,17 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
         const int32_t *oc = r->conn0 + 3 * (int64_t)r->borig[t];
         double l0 = INFINITY, dv[3];
         for (int j = 0; j < 3; j++) {
-            sub(aug_edit_x(&ed, oc[(j + 1) % 3]), aug_edit_x(&ed, oc[j]), dv);
-            l0 = fmin(l0, sqrt(dot(dv, dv)));
+            aug_sub3(aug_edit_x(&ed, oc[(j + 1) % 3]), aug_edit_x(&ed, oc[j]), dv);
+            l0 = fmin(l0, sqrt(aug_dot3(dv, dv)));
         }
-        sub(aug_edit_x(&ed, pb), aug_edit_x(&ed, pa), dv);
-        if (sqrt(dot(dv, dv)) < FLOOR_REL * l0) {
+        aug_sub3(aug_edit_x(&ed, pb), aug_edit_x(&ed, pa), dv);
+        if (sqrt(aug_dot3(dv, dv)) < FLOOR_REL * l0) {
             if (hopeless_mem3(&ed, r->borig, t, thasp)) continue; /* left: bad_left */
             const double *xa = aug_edit_x(&ed, pa);
             rc = aug_err_set(e, AUG_EDATA, -1, "MDLT",
                              "step %d: bisection runs away at (%.6g, %.6g, %.6g): an edge of %.3g, below %g of "
                              "its original triangle's shortest edge", (int)d->step, xa[0], xa[1], xa[2],
-                             sqrt(dot(dv, dv)), FLOOR_REL);
+                             sqrt(aug_dot3(dv, dv)), FLOOR_REL);
             goto done;
         }
         int32_t nr = centroid_mem3(r, &ed, pa, pb);

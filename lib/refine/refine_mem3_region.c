@@ -18,13 +18,6 @@
    of its length (refine_region2d.c, recover_routed) */
 #define ROUTE_TOL 0.01
 
-static void sub3(const double *a, const double *b, double *r) { r[0] = a[0] - b[0], r[1] = a[1] - b[1], r[2] = a[2] - b[2]; }
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-static void cross3(const double *a, const double *b, double *r)
-{
-    r[0] = a[1] * b[2] - a[2] * b[1], r[1] = a[2] * b[0] - a[0] * b[2], r[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* the plane of an original triangle (a, b, c): origin a, e1 along ab, e2 = n x e1,
    so the triangle is counter-clockwise in (e1, e2) */
 typedef struct frame {
@@ -35,28 +28,28 @@ typedef struct frame {
 static void frame_of(const double *a, const double *b, const double *c, frame *f)
 {
     double u[3], v[3];
-    sub3(b, a, u), sub3(c, a, v);
-    cross3(u, v, f->n);
-    double ln = sqrt(dot3(f->n, f->n)), lu = sqrt(dot3(u, u));
+    aug_sub3(b, a, u), aug_sub3(c, a, v);
+    aug_cross3(u, v, f->n);
+    double ln = sqrt(aug_dot3(f->n, f->n)), lu = sqrt(aug_dot3(u, u));
     for (int k = 0; k < 3; k++) f->o[k] = a[k], f->n[k] /= ln, f->e1[k] = u[k] / lu;
-    cross3(f->n, f->e1, f->e2);
+    aug_cross3(f->n, f->e1, f->e2);
     double w[3];
-    sub3(c, b, w);
-    f->h = fmax(lu, fmax(sqrt(dot3(v, v)), sqrt(dot3(w, w))));
+    aug_sub3(c, b, w);
+    f->h = fmax(lu, fmax(sqrt(aug_dot3(v, v)), sqrt(aug_dot3(w, w))));
 }
 
 static void local(const frame *f, const double *p, double *l)
 {
     double d[3];
-    sub3(p, f->o, d);
-    l[0] = dot3(d, f->e1), l[1] = dot3(d, f->e2);
+    aug_sub3(p, f->o, d);
+    l[0] = aug_dot3(d, f->e1), l[1] = aug_dot3(d, f->e2);
 }
 
 static double off_plane(const frame *f, const double *p)
 {
     double d[3];
-    sub3(p, f->o, d);
-    return fabs(dot3(d, f->n));
+    aug_sub3(p, f->o, d);
+    return fabs(aug_dot3(d, f->n));
 }
 
 /* barycentric coordinates of local point p in local triangle (a, b, c) */
@@ -245,14 +238,14 @@ static int64_t bad_piece(const mstep *s, const int32_t *cn)
     for (int64_t k = 0; k < s->d->nmod + s->d->nadd; k++) {
         const int32_t *v = C->conn + 3 * (int64_t)piece_elem(s, k);
         double u[3], w[3], n0[3], n1[3];
-        sub3(C->x + 3 * (int64_t)v[1], C->x + 3 * (int64_t)v[0], u);
-        sub3(C->x + 3 * (int64_t)v[2], C->x + 3 * (int64_t)v[0], w);
-        cross3(u, w, n0);
+        aug_sub3(C->x + 3 * (int64_t)v[1], C->x + 3 * (int64_t)v[0], u);
+        aug_sub3(C->x + 3 * (int64_t)v[2], C->x + 3 * (int64_t)v[0], w);
+        aug_cross3(u, w, n0);
         const double *X[3];
         for (int j = 0; j < 3; j++) X[j] = cn[v[j]] >= 0 ? aug_edit_x(s->ed, cn[v[j]]) : C->x + 3 * (int64_t)v[j];
-        sub3(X[1], X[0], u), sub3(X[2], X[0], w);
-        cross3(u, w, n1);
-        if (!(dot3(n0, n1) > 0.25 * dot3(n0, n0))) return k;
+        aug_sub3(X[1], X[0], u), aug_sub3(X[2], X[0], w);
+        aug_cross3(u, w, n1);
+        if (!(aug_dot3(n0, n1) > 0.25 * aug_dot3(n0, n0))) return k;
     }
     return -1;
 }
