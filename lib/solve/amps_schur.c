@@ -230,7 +230,7 @@ static int full_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t n1
     int64_t ld = s->scap;
     for (int64_t b = 0; b < n1; b++) s2_column(s, M, b, 0, s->S2 + b * ld, W->wq, W->wv);
     s->k0 = 0;
-    return LAPACKE_dgetrf(LAPACK_COL_MAJOR, (lapack_int)n1, (lapack_int)n1, s->S2, (lapack_int)ld,
+    return LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, (lapack_int)n1, (lapack_int)n1, s->S2, (lapack_int)ld,
                           s->ipiv);
 }
 
@@ -263,7 +263,7 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t 
                 LU, (int)ld, LU + k0 * ld, (int)ld);
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)nt, (int)nt, (int)k0, -1.0, LU + k0,
                 (int)ld, LU + k0 * ld, (int)ld, 1.0, LU + k0 + k0 * ld, (int)ld);
-    lapack_int info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, (lapack_int)nt, (lapack_int)nt,
+    lapack_int info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, (lapack_int)nt, (lapack_int)nt,
                                      LU + k0 + k0 * ld, (lapack_int)ld, ipiv + k0);
     if (info < 0) return (int)info;
     for (int64_t i = 0; i < nt; i++) {
@@ -353,6 +353,25 @@ int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double r
         s->rcond = 0;
         return 0;
     }
+    /* the entries this factorization wrote, finite (else singular): the rows
+       n0.. of the columns before s->k0 (L21, all of them after full_lu) and
+       every row of the columns from s->k0 on. The rest is an earlier step's
+       checked factor. So dgetrf and dgetrs run as LAPACKE's _work entries,
+       without the O(n1^2) NaN scans of the checked ones (which read the
+       whole S2 on every solve), and a NaN from the memo makes the step
+       singular, not an error or a NaN field (solve_amps amps_nonfinite_s2). */
+    ld = s->scap;
+    for (int64_t b = 0; b < n1 && !s->singular; b++)
+        for (int64_t r = b < s->k0 ? n0 : 0; r < n1; r++)
+            if (!isfinite(s->S2[r + b * ld])) {
+                s->singular = 1;
+                break;
+            }
+    if (s->singular) {
+        s->nlu = 0;
+        s->rcond = NAN;
+        return 0;
+    }
     s->nlu = n1;
 done:
     s->stamp = c->napply;
@@ -393,13 +412,17 @@ nomem:
     return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (S2 %lld)", (long long)n1);
 }
 
-/* x := S2^-1 x with the LU factors (dgetrs; paper 001 eq. 3.8, table 1 step 5) */
+/* x := S2^-1 x with the LU factors (dgetrs; paper 001 eq. 3.8, table 1 step 5).
+   The _work entry: LAPACKE_dgetrs first reads all of S2 for NaN (as many
+   reads as the solve itself, on every solve) and on a NaN returned without
+   solving, x unchanged. aug_schur_factor leaves a finite factor or marks
+   the step singular. */
 void aug_schur_solve(const aug_schur *s, double *x)
 {
     int64_t na = s->na;
     if (na == 0) return;
     for (int64_t q = 0; q < na; q++) x[q] *= s->rs[q]; /* the rows new_scale scaled */
-    LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', (lapack_int)na, 1, s->S2, (lapack_int)s->scap, s->ipiv, x,
+    LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', (lapack_int)na, 1, s->S2, (lapack_int)s->scap, s->ipiv, x,
                    (lapack_int)na);
 }
 
@@ -411,7 +434,7 @@ void aug_schur_solve_t(const aug_schur *s, double *x)
 {
     int64_t na = s->na;
     if (na == 0) return;
-    LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'T', (lapack_int)na, 1, s->S2, (lapack_int)s->scap, s->ipiv, x,
+    LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'T', (lapack_int)na, 1, s->S2, (lapack_int)s->scap, s->ipiv, x,
                    (lapack_int)na);
     for (int64_t q = 0; q < na; q++) x[q] *= s->rs[q];
 }

@@ -287,6 +287,43 @@ static void amps_singular_step(void)
     fix_close(&f);
 }
 
+/* a non-finite entry of H'K^-1H reaches S2: the step is singular, not a
+   NaN field (the solves read S2 without LAPACKE's NaN scan) */
+static void amps_nonfinite_s2(void)
+{
+    fixture f;
+    fix_open(&f, 3, 3, 5, 1.0, 47);
+    aug_amps a;
+    aug_amps_init(&a);
+    double tm[4], *x = calloc((size_t)f.g.n * 4, sizeof *x);
+    for (int t = 1; t <= 3; t++) {
+        T_CHECK(fix_random_step(&f, 1.5, t) == 0, "apply: %s", f.e.msg);
+        T_CHECK(aug_amps_step(&a, f.b, &f.c, NULL, 0, 0, x, tm, &cm, &f.e) == 0, "%s", f.e.msg);
+    }
+    aug_memo *M = &a.memo;
+    T_CHECK(a.schur.na > 0 && M->m > 0 && !a.schur.singular, "no S2 to poison (na %lld)",
+            (long long)a.schur.na);
+    /* control: a fresh factor of the same S2 is regular */
+    aug_schur_free(&a.schur);
+    T_CHECK(aug_schur_factor(&a.schur, M, &f.c, 0, &f.e) == 0 && !a.schur.singular,
+            "fresh S2 singular: %s", f.e.msg);
+    int64_t p = -1;
+    for (int64_t q = 0; q < a.schur.na && p < 0; q++)
+        if (M->cpos[a.schur.A[q]] >= 0) p = a.schur.A[q];
+    T_CHECK(p >= 0, "no base position in A");
+    if (p >= 0) {
+        double *Gp = M->G + (int64_t)M->cpos[p] * M->mcap, keep = Gp[0];
+        Gp[0] = NAN;
+        aug_schur_free(&a.schur);
+        int rc = aug_schur_factor(&a.schur, M, &f.c, 0, &f.e);
+        T_CHECK(rc == 0 && a.schur.singular, "NaN in S2: rc %d, singular %d", rc, a.schur.singular);
+        Gp[0] = keep;
+    }
+    free(x);
+    aug_amps_free(&a);
+    fix_close(&f);
+}
+
 /* the cut matrix from K_0 and the composed sparse Ebar equals K_t assembled
    from scratch: every column (rows increasing, nothing but round-off
    between them), K_t x, and the relres on the changed rows */
@@ -394,6 +431,7 @@ int main(void)
     T_RUN(amps_cholmod_reach_matches);
     T_RUN(amps_output_closure);
     T_RUN(amps_singular_step);
+    T_RUN(amps_nonfinite_s2);
     T_RUN(amps_s2_update_matches_fresh);
     T_RUN(amps_material_jump);
     T_RUN(amps_supernodal_backsolve);
