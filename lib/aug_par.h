@@ -75,6 +75,11 @@ int aug_par_super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor
    base's plan: 0, -1 out of memory (x untouched), 1 no pool, Ls or plan
    (x untouched: the caller solves serially) */
 int aug_par_ltsolve_all(aug_par *p, const aug_base *b, double *x);
+/* x := L^-T y off an etree closure C of the base's Ls whose final values
+   x_C are given; pre[s]: the leading columns of supernode s outside C
+   (aug_ldl_closure_pre). On the pool (with the base's plan) when p is set,
+   else serially; 0 or -1 (memory) */
+int aug_par_ltsolve_rest(aug_par *p, const aug_base *b, const int *pre, const double *y, double *x);
 /* x = K_b^-1 rhs with both supernodal solves on the pool: 0, -1, 1 as above */
 int aug_par_full_solve(aug_par *p, const aug_base *b, const double *rhs, double *x);
 

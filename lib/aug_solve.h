@@ -157,6 +157,10 @@ int aug_ldl_paths_solve_super(const aug_base *b, int r, const int32_t *p, int32_
    rows outside it are left as they are. tmp: n-sized workspace. */
 void aug_ldl_ltsolve_closure_super(const aug_base *b, const int32_t *set, int64_t k, double *x,
                                    double *tmp);
+/* pre[s] = the leading columns of supernode s of Ls outside the ascending
+   etree closure set[0..k) (aug_par_ltsolve_rest); 0, or -1 when a
+   supernode's rows in the set are not a suffix of its columns (or no Ls) */
+int aug_ldl_closure_pre(const aug_base *b, const int32_t *set, int64_t k, int *pre);
 /* x := L^-1 x on the etree closure set[0..k) (ascending) only, x zero
    outside it, through the supernodes of Ls (BLAS 2 per supernode), column
    by column without Ls. tmp: n-sized workspace. */
@@ -309,6 +313,8 @@ typedef struct aug_amps {
     int pivot_used;      /* the last step's: S2 or ALT */
     double berr_piv[2];  /* berr_h0 of S2 and ALT when last used (AUTO) */
     struct aug_par *par; /* borrowed two-core pool for the full L^-T (NULL: serial) */
+    double xnorm;        /* ||x_t|| on base DOFs of the last full field ... */
+    const void *xnorm_b; /* ... on this base (relres_floor of a deferred L^-T) */
 } aug_amps;
 
 /* Schur pivots of AMPS (paper 001): S2 of eq. 3.8, the (1,2) block of S1 as

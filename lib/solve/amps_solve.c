@@ -14,6 +14,9 @@ typedef struct aug_hcorr {
     unsigned char *mark;     /* n bytes, zero between uses */
     double *xt;              /* K_t-sized values on the pattern */
     double *yd;              /* n-sized: the field of the correction */
+    double *yf, *ydf;        /* n-sized: forward parts D^-1 L^-1 P H w (deferred L^-T) */
+    int32_t *cset;           /* n: the closure C of the pattern in L' (deferred L^-T) */
+    int *pre;                /* n: per supernode its leading columns outside C */
     double *r, *ka, *rh, *ew, *x0, *w0; /* S-sized */
 } aug_hcorr;
 
@@ -21,6 +24,7 @@ static void hcorr_free(aug_hcorr *h)
 {
     if (!h) return;
     free(h->pat), free(h->qa), free(h->mark), free(h->xt), free(h->yd);
+    free(h->yf), free(h->ydf), free(h->cset), free(h->pre);
     free(h->r), free(h->ka), free(h->rh), free(h->ew), free(h->x0), free(h->w0);
     free(h);
 }
@@ -31,11 +35,16 @@ static aug_hcorr *hcorr_get(aug_amps *a, int64_t n, int64_t ns)
     if (!h && !(h = a->hc = aug_calloc(1, sizeof *h))) return NULL;
     if (h->ncap < n + 1) {
         free(h->pat), free(h->mark), free(h->xt), free(h->yd);
+        free(h->yf), free(h->ydf), free(h->cset), free(h->pre);
         h->yd = aug_malloc((size_t)(n + 1) * sizeof *h->yd);
+        h->yf = aug_malloc((size_t)(n + 1) * sizeof *h->yf);
+        h->ydf = aug_malloc((size_t)(n + 1) * sizeof *h->ydf);
+        h->cset = aug_malloc((size_t)(n + 1) * sizeof *h->cset);
+        h->pre = aug_malloc((size_t)(n + 1) * sizeof *h->pre);
         h->pat = aug_malloc((size_t)(n + 1) * sizeof *h->pat);
         h->mark = aug_calloc((size_t)(n + 1), 1);
         h->xt = aug_malloc((size_t)(n + 1) * sizeof *h->xt);
-        h->ncap = h->pat && h->mark && h->xt && h->yd ? n + 1 : 0;
+        h->ncap = h->pat && h->mark && h->xt && h->yd && h->yf && h->ydf && h->cset && h->pre ? n + 1 : 0;
         if (!h->ncap) return NULL;
     }
     if (h->scap < ns + 1) {
@@ -268,10 +277,11 @@ static int64_t closure2(const aug_base *b, int64_t nb, const int32_t *i1, int64_
    base's factor, which scales with the solution; the base's own solve
    a_b = K_b^-1 f_b shows its size, so that part is about
    ||f_b - K_b a_b|| ||x_t|| / (||a_b|| ||f_t||), x_t from the base DOFs of
-   the field y (permuted; NULL, an output set: ||x_t|| taken as ||a_b||).
+   the field y (permuted), else xn when finite (the last full field of this
+   base, when the field's L^-T is deferred), else ||a_b|| (an output set).
    Times floor_k; 0 when the base has no residual or floor_k is 0. */
 static double relres_floor(const aug_amps *a, const aug_base *b, const aug_cum *c, const double *y,
-                           double fnorm)
+                           double xn, double fnorm)
 {
     if (!(a->floor_k > 0) || !isfinite(b->rnorm) || !(b->anorm > 0) || !(fnorm > 0)) return 0;
     double xx = 0;
@@ -280,7 +290,7 @@ static double relres_floor(const aug_amps *a, const aug_base *b, const aug_cum *
             double v = b->a[i] + y[b->pinv[i]];
             xx += v * v;
         }
-    double xn = y ? sqrt(xx) : b->anorm;
+    xn = y ? sqrt(xx) : isfinite(xn) ? xn : b->anorm;
     return a->floor_k * b->rnorm * xn / (b->anorm * fnorm);
 }
 
@@ -294,15 +304,17 @@ static double relres_floor(const aug_amps *a, const aug_base *b, const aug_cum *
    path, not two traversals (paper 000 thm 2).
    AMPS's field x = [a_b; 0] + Kbar^-1 P_S w satisfies every row of K_t
    outside S to the rounding of one back-substitution, so its residual r =
-   f_t - K_t x lives on the rows of S: S2 (from the memo's H'K^-1H) and the
-   back-substitution disagree by rounding that cond(S2) amplifies. With r on
-   S, K_t^-1 P_S r = Kbar^-1 P_S (r + Ebar dz), S2 dz = (Kbar^-1 P_S r)_A
-   (eqs. 3.8 and 3.15 for the right-hand side P_S r; the right-hand side
-   from the memo's H'K^-1H, the operator S2 is made of: on the organ and
-   stack scenes it gives the same sweeps and backward errors as a
-   back-substitution over the closure of A did, without that traversal):
-   a2 += dz, dw += r + Ebar dz. As in any iterative refinement the
-   field of each increment, over Q, is added to the field already computed,
+   f_t - K_t x lives on the rows of S: r_S = Ebar (Hbar'x - a2), the forces
+   of the cut times the difference between two computations of the field on
+   S, a2 from S2 (the memo's H'K^-1H) and Hbar'x from the back-substitution,
+   each with its own forward error; cond(S2) and the cut forces grow as a
+   cut deepens (bunny: ||r_S|| / ||f_t|| from 5e-9 to 7e-8 over 64
+   one-node steps, a full LU of S2 every step the same), while the rows
+   outside S stay at one back-substitution's rounding. With r on S,
+   K_t^-1 P_S r = Kbar^-1 P_S (r + Ebar dz), S2 dz = (Kbar^-1 P_S r)_A
+   (eqs. 3.8 and 3.15 for the right-hand side P_S r, from the memo's
+   H'K^-1H): a2 += dz, dw += r + Ebar dz. As in any iterative refinement
+   the field of each increment is added to the field already computed,
    never recomputed with w + dw in one back-substitution: that would bring
    back rounding of the size being removed. The residual is summed in long
    double (aug_cutmat_rows_residual). A sweep is taken while the normwise
@@ -311,7 +323,15 @@ static double relres_floor(const aug_amps *a, const aug_base *b, const aug_cum *
    ||r_H|| / ||f_t||, exceeds relres_floor (below the residual the other
    rows carry a sweep buys nothing the step's relres shows), at most
    correct_max times; one that does not lower it is undone (its increment
-   never joins y), one that lowers it by less than 10% is the last. dw
+   never joins y), one that lowers it by less than 10% is the last.
+   The full field (out NULL) defers its L^-T: the rows of S read x only on
+   the closure C in L' of their pattern, so the field and each increment
+   are back-substituted over C alone (aug_ldl_ltsolve_closure_super), the
+   forward parts D^-1 L^-1 P H w summed beside them, and the rest of L' is
+   solved once at the end from that sum with x_C given
+   (aug_par_ltsolve_rest): a sweep costs a forward and a backward solve over
+   closures, not a full solve (issue 15 item 1), and the rows outside S,
+   each solved once, stay at one back-substitution's rounding. dw
    (S-sized) is zero when no sweep was kept. Sets ncorrect, berr_h0,
    berr_h, relres_h0, relres_h, relres_floor, t_correct, nq (|Q|; Q in a->q when out is
    given). Returns 0, -1 (memory) or -2 (the supernodal solve failed). */
@@ -323,7 +343,7 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     a->t_correct = 0;
     const aug_schur *s = &a->schur;
     const aug_memo *M = &a->memo;
-    int64_t ns = c->ns, na = s->na, np = 0;
+    int64_t ns = c->ns, na = s->na, np = 0, nc = 0;
     for (int64_t p = 0; p < ns; p++) dw[p] = 0;
     int corr = a->kt && a->correct_max > 0 && ns > 0;
     aug_hcorr *h = corr ? hcorr_get(a, c->n, ns) : NULL;
@@ -335,8 +355,28 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     }
     int32_t *Q = out ? a->q : NULL;
     a->nq = out ? closure2(b, c->nb, out, nout, h ? h->pat : NULL, np, Q, a->mark) : b->n;
+    /* the deferred L^-T of the full field: C = the closure of the
+       pattern's base DOFs and of H (the forward solve's support) */
+    int defer = corr && !out && !a->field_memo && b->Ls;
+    if (defer && h_closure(a, b)) return -1;
+    if (defer) {
+        nc = closure2(b, c->nb, h->pat, np, NULL, 0, h->cset, a->mark);
+        for (int64_t t = 0; t < nc; t++) a->mark[h->cset[t]] = 1;
+        int64_t extra = 0;
+        for (int64_t t = 0; t < a->nhcl; t++)
+            if (!a->mark[a->hcl[t]]) extra++;
+        for (int64_t t = 0; t < nc; t++) a->mark[h->cset[t]] = 0;
+        /* hcl lies in C when every memo column is a row of S (always, but
+           checked: else the old way) */
+        defer = extra == 0 && aug_ldl_closure_pre(b, h->cset, nc, h->pre) == 0;
+    }
     a->t_correct += now_ms() - tc;
-    if (field(a, b, wp, Q, a->nq, y, cm)) return -2;
+    if (defer) {
+        if (v_times(a, b, wp, NULL, 0, h->yf, a->t2)) return -1;
+        for (int64_t t = 0; t < nc; t++) y[h->cset[t]] = h->yf[h->cset[t]];
+        aug_ldl_ltsolve_closure_super(b, h->cset, nc, y, a->t2);
+    } else if (field(a, b, wp, Q, a->nq, y, cm))
+        return -2;
     if (!corr) return 0;
     tc = now_ms();
     for (int64_t p = 0; p < ns; p++) h->qa[p] = -1;
@@ -345,7 +385,9 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     for (int64_t t = 0; t < np; t++)
         if (h->pat[t] < c->nb) h->xt[h->pat[t]] = b->a[h->pat[t]] + y[b->pinv[h->pat[t]]];
     double *yd = h->yd, prev = INFINITY, prev_rs = NAN, fnorm = aug_cutmat_fnorm(a->kt);
-    a->relres_floor = relres_floor(a, b, c, Q ? NULL : y, fnorm);
+    /* deferred: ||x_t|| from this base's last full field, if any */
+    double xn = defer && a->xnorm_b == (const void *)b ? a->xnorm : NAN;
+    a->relres_floor = relres_floor(a, b, c, Q || defer ? NULL : y, xn, fnorm);
     int rc = 0;
     for (int it = 0;; it++) {
         for (int64_t t = 0; t < np; t++) {
@@ -373,7 +415,10 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
             a->berr_h = prev, a->relres_h = prev_rs;
             break;
         }
-        if (it > 0) /* the last sweep kept: its field joins y */
+        if (it > 0 && defer) { /* the last sweep kept: its parts join y on C and yf */
+            for (int64_t t = 0; t < nc; t++) y[h->cset[t]] += yd[h->cset[t]];
+            for (int64_t t = 0; t < b->n; t++) h->yf[t] += h->ydf[t];
+        } else if (it > 0)
             for (int64_t t = 0; t < a->nq; t++) y[Q ? Q[t] : t] += yd[Q ? Q[t] : t];
         a->berr_h = berr, a->relres_h = rs;
         if (berr <= BERR_OK || rs <= a->relres_floor || it == a->correct_max || (it > 0 && berr > 0.9 * prev))
@@ -396,8 +441,15 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
         pivot_solve(a, c, h->rh, h->r, h->ew); /* ew = r + Ebar dz */
         for (int64_t aq = 0; aq < na; aq++) x[aq] += h->rh[aq];
         for (int64_t p = 0; p < ns; p++) dw[p] += h->ew[p];
-        /* the increment's field over Q, on the pattern added to xt */
-        if (field(a, b, h->ew, Q, a->nq, yd, cm)) {
+        /* the increment's field over Q (deferred: over C), on the pattern added to xt */
+        if (defer) {
+            if (v_times(a, b, h->ew, NULL, 0, h->ydf, a->t2)) {
+                rc = -1;
+                break;
+            }
+            for (int64_t t = 0; t < nc; t++) yd[h->cset[t]] = h->ydf[h->cset[t]];
+            aug_ldl_ltsolve_closure_super(b, h->cset, nc, yd, a->t2);
+        } else if (field(a, b, h->ew, Q, a->nq, yd, cm)) {
             rc = -2;
             break;
         }
@@ -406,6 +458,15 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
         a->ncorrect++;
     }
     a->t_correct += now_ms() - tc;
+    if (defer && !rc) { /* the rest of L' once, from the summed forward parts */
+        if (aug_par_ltsolve_rest(a->par, b, h->pre, h->yf, y)) return -1;
+        double xx = 0;
+        for (int64_t i = 0; i < c->nb; i++) {
+            double v = b->a[i] + y[b->pinv[i]];
+            xx += v * v;
+        }
+        a->xnorm = sqrt(xx), a->xnorm_b = b;
+    }
     return rc;
 }
 

@@ -424,6 +424,22 @@ static int closure_suffixes(const aug_base *b, const int32_t *set, int64_t k)
     return 1;
 }
 
+/* pre[s] = the columns of supernode s of Ls outside the ascending etree
+   closure set[0..k): its leading ones, when each supernode's rows in the
+   set are a suffix of its columns (closure_suffixes). 0, or -1 when they
+   are not (or there is no Ls) */
+int aug_ldl_closure_pre(const aug_base *b, const int32_t *set, int64_t k, int *pre)
+{
+    if (!b->Ls || !closure_suffixes(b, set, k)) return -1;
+    const int *sup = b->Ls->super;
+    for (int64_t s = 0; s < (int64_t)b->Ls->nsuper; s++) pre[s] = sup[s + 1] - sup[s];
+    for (int64_t t = k - 1; t >= 0; t--) {
+        int32_t s = b->super_of[set[t]];
+        pre[s] = set[t] - sup[s];
+    }
+    return 0;
+}
+
 /* x := L^-T x = Ls^-T (D^1/2 x) on the rows of the etree closure set only (paper
    000 thm 2), supernode by supernode (dgemv + dtrsv); column by column
    (aug_ldl_ltsolve) when a supernode's rows in set are not a suffix of its columns */

@@ -16,16 +16,23 @@ extern int openblas_get_num_threads(void);
 extern void openblas_set_num_threads(int);
 
 /* x1 := L1^-T (x1 - L2' x(rows)): supernode s of L' x = b, which reads x only
-   on the supernode's rows, its etree ancestors (paper 000 thm 2) */
-static void lt_super(const cholmod_factor *L, int32_t s, double *x, double *e)
+   on the supernode's rows, its etree ancestors (paper 000 thm 2). pre: its
+   first pre columns only, the others given (final) as rows of the first
+   pre: x(0:pre) := T^-T (x(0:pre) - A(pre:nscol, 0:pre)' x(pre:nscol) -
+   L2(:, 0:pre)' x(rows)); pre = nscol is the whole supernode, 0 nothing */
+static void lt_super(const cholmod_factor *L, int32_t s, int pre, double *x, double *e)
 {
     const int *sup = L->super, *pi = L->pi, *px = L->px, *rows = L->s;
     const double *A = (const double *)L->x + px[s];
     int k1 = sup[s], nscol = sup[s + 1] - k1, nsrow = pi[s + 1] - pi[s], nb = nsrow - nscol;
+    if (pre <= 0) return;
     const int *rs = rows + pi[s] + nscol;
     for (int i = 0; i < nb; i++) e[i] = x[rs[i]];
-    cblas_dgemv(CblasColMajor, CblasTrans, nb, nscol, -1.0, A + nscol, nsrow, e, 1, 1.0, x + k1, 1);
-    cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, nscol, A, nsrow, x + k1, 1);
+    cblas_dgemv(CblasColMajor, CblasTrans, nb, pre, -1.0, A + nscol, nsrow, e, 1, 1.0, x + k1, 1);
+    if (pre < nscol)
+        cblas_dgemv(CblasColMajor, CblasTrans, nscol - pre, pre, -1.0, A + pre, nsrow, x + k1 + pre, 1,
+                    1.0, x + k1, 1);
+    cblas_dtrsv(CblasColMajor, CblasLower, CblasTrans, CblasNonUnit, pre, A, nsrow, x + k1, 1);
 }
 
 /* x1 := L1^-1 x1, x(rows) := x(rows) - L2 x1: supernode s of L x = b. The
@@ -50,6 +57,7 @@ typedef struct job {
     const cholmod_factor *L;
     double *x, *e, *defer;
     int64_t elen;        /* per-thread length of e */
+    const int *pre;      /* L': columns of each supernode to compute (NULL: all) */
     int sys;
     atomic_int next;     /* the next task to take */
 } job;
@@ -70,7 +78,10 @@ static void run_tasks(void *arg, int t)
         const int32_t *list = pl->task_s + pl->task_p[k];
         int64_t len = pl->task_p[k + 1] - pl->task_p[k];
         if (j->sys == AUG_PAR_LT) {
-            for (int64_t q = len - 1; q >= 0; q--) lt_super(j->L, list[q], j->x, e);
+            for (int64_t q = len - 1; q >= 0; q--) {
+                int32_t s = list[q];
+                lt_super(j->L, s, j->pre ? j->pre[s] : sup[s + 1] - sup[s], j->x, e);
+            }
             continue;
         }
         for (int64_t q = 0; q < len; q++) {
@@ -105,24 +116,24 @@ static void l_top(const job *j)
     }
 }
 
-int aug_par_super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor *Ls, int sys,
-                        double *x)
+/* aug_par_super_solve with pre (AUG_PAR_LT: per supernode the leading
+   columns computed, the rest given; NULL: all) */
+static int super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor *Ls, int sys,
+                       const int *pre, double *x)
 {
     int ns = (int)Ls->nsuper;
+    const int *sup = Ls->super, *pi = Ls->pi;
     if (!p || !pl) {
         double *e = aug_malloc(((size_t)Ls->maxesize + 1) * sizeof *e);
         if (!e) return -1;
         if (sys == AUG_PAR_LT)
-            for (int s = ns - 1; s >= 0; s--) lt_super(Ls, s, x, e);
+            for (int s = ns - 1; s >= 0; s--) lt_super(Ls, s, pre ? pre[s] : sup[s + 1] - sup[s], x, e);
         else
-            for (int s = 0; s < ns; s++) {
-                const int *sup = Ls->super, *pi = Ls->pi;
-                l_super(Ls, s, x, e, pi[s + 1] - pi[s] - (sup[s + 1] - sup[s]), NULL);
-            }
+            for (int s = 0; s < ns; s++) l_super(Ls, s, x, e, pi[s + 1] - pi[s] - (sup[s + 1] - sup[s]), NULL);
         free(e);
         return 0;
     }
-    job j = {pl, Ls, x, NULL, NULL, pl->tmpmax + 1, sys, 0};
+    job j = {pl, Ls, x, NULL, NULL, pl->tmpmax + 1, pre, sys, 0};
     int nt = aug_par_nthreads(p);
     j.e = aug_par_buf(p, 0, (size_t)nt * (size_t)j.elen);
     if (sys == AUG_PAR_L) j.defer = aug_par_buf(p, 2, (size_t)pl->ndefer + 1);
@@ -134,7 +145,10 @@ int aug_par_super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor
     if (nblas > 1) openblas_set_num_threads(1);
     if (sys == AUG_PAR_LT) {
         /* the top part first (the ancestors of every task), then the tasks */
-        for (int64_t k = pl->ntop - 1; k >= 0; k--) lt_super(Ls, pl->top[k], x, j.e);
+        for (int64_t k = pl->ntop - 1; k >= 0; k--) {
+            int32_t s = pl->top[k];
+            lt_super(Ls, s, pre ? pre[s] : sup[s + 1] - sup[s], x, j.e);
+        }
         aug_par_run(p, run_tasks, &j);
     } else {
         aug_par_run(p, run_tasks, &j);
@@ -142,6 +156,26 @@ int aug_par_super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor
     }
     if (nblas > 1) openblas_set_num_threads(nblas);
     return 0;
+}
+
+int aug_par_super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor *Ls, int sys,
+                        double *x)
+{
+    return super_solve(p, pl, Ls, sys, NULL, x);
+}
+
+/* x := L^-T y off an etree closure C whose values x_C are given (final):
+   the columns outside C are the leading pre[s] of each supernode s
+   (aug_ldl_closure_pre); there x = Ls^-T (D^1/2 y) with x_C read where
+   their rows meet (paper 000 thm 2: the rest of the back-substitution
+   needs C only through its final values). On the pool when p and the
+   base's plan are there, else on the caller; 0 or -1 (memory) */
+int aug_par_ltsolve_rest(aug_par *p, const aug_base *b, const int *pre, const double *y, double *x)
+{
+    const int *sup = b->Ls->super;
+    for (int64_t s = 0; s < (int64_t)b->Ls->nsuper; s++)
+        for (int j = sup[s]; j < sup[s] + pre[s]; j++) x[j] = y[j] * b->sqrtd[j];
+    return super_solve(p, p ? b->par_plan : NULL, b->Ls, AUG_PAR_LT, pre, x);
 }
 
 /* x := L^-T x = Ls^-T (D^1/2 x), as aug_ldl_ltsolve_all, over the split of

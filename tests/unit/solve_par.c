@@ -245,24 +245,37 @@ static void solves_bitwise(int nblas)
 static void solves_bitwise_blas1(void) { solves_bitwise(1); }
 static void solves_bitwise_blas2(void) { solves_bitwise(2); }
 
+/* the fixture, a random right-hand side b, a base on a copy of its factor
+   and a pool of two threads; 0, or -1 (checked, everything freed) */
+static int base_open(fixture *f, double **b, aug_base **base, aug_par **p)
+{
+    fix_open(f);
+    if (!f->pl) {
+        fix_close(f);
+        return -1;
+    }
+    aug_err e = {0};
+    *b = random_vec(f->r, f->n);
+    cholmod_factor *L0 = cholmod_copy_factor(f->L, &cm);
+    *base = aug_base_new(L0, f->K, *b, -1, &cm, &e);
+    *p = aug_par_new(2);
+    T_CHECK(*base && (*base)->Ls && (*base)->par_plan && *p, "base with Ls, split, pool: %s", e.msg);
+    if (*base && (*base)->Ls && (*base)->par_plan && *p) return 0;
+    aug_base_release(*base, &cm), aug_par_free(*p), free(*b);
+    fix_close(f);
+    return -1;
+}
+
 /* K^-1 b by aug_par_full_solve on a base: within 1e-14 of cholmod_solve2 CHOLMOD_A,
    and the residual of K x = b (computed with cholmod_sdmult, long double
    norms) at rounding; aug_par_ltsolve_all equals aug_ldl_ltsolve_all */
 static void full_solve_and_base(void)
 {
     fixture f = {0};
-    fix_open(&f);
-    if (!f.pl) return fix_close(&f);
-    aug_err e = {0};
-    double *b = random_vec(f.r, f.n);
-    cholmod_factor *L0 = cholmod_copy_factor(f.L, &cm);
-    aug_base *base = aug_base_new(L0, f.K, b, -1, &cm, &e);
-    T_CHECK(base && base->Ls && base->par_plan, "base with Ls and its split: %s", e.msg);
-    aug_par *p = aug_par_new(2);
-    if (!base || !base->Ls || !base->par_plan || !p) {
-        aug_base_release(base, &cm), aug_par_free(p), free(b);
-        return fix_close(&f);
-    }
+    double *b;
+    aug_base *base;
+    aug_par *p;
+    if (base_open(&f, &b, &base, &p)) return;
     double *x = malloc((size_t)f.n * sizeof *x), *y = malloc((size_t)f.n * sizeof *y);
     T_CHECK(aug_par_full_solve(p, base, b, x) == 0, "full solve");
     T_CHECK(aug_par_full_solve(NULL, base, b, y) == 1, "no pool: not applicable");
@@ -297,6 +310,70 @@ static void full_solve_and_base(void)
     fix_close(&f);
 }
 
+/* The deferred back-substitution of AMPS's corrected field (amps_solve.c):
+   L^-T y over an etree closure C (aug_ldl_ltsolve_closure_super), then the
+   rest from y with x_C given (aug_ldl_closure_pre, aug_par_ltsolve_rest),
+   equals one full L^-T y (aug_ldl_ltsolve_all) to 1e-13; with x_C the full
+   solve's own values, the rest is the full solve's to 1e-13 too, and on
+   two threads bitwise the serial rest. C: the closure of 40 random
+   columns, of 1 column, and of none (the rest is then the whole solve,
+   bitwise). pre counts each supernode's columns outside C. */
+static void deferred_rest(void)
+{
+    fixture f = {0};
+    double *b;
+    aug_base *base;
+    aug_par *p;
+    if (base_open(&f, &b, &base, &p)) return;
+    int64_t n = f.n;
+    double *y = random_vec(f.r, n), *ref = malloc((size_t)n * sizeof *ref);
+    double *x = malloc((size_t)n * sizeof *x), *x2 = malloc((size_t)n * sizeof *x2);
+    double *tmp = malloc((size_t)n * sizeof *tmp);
+    int32_t *start = malloc(40 * sizeof *start), *C = malloc((size_t)n * sizeof *C);
+    int *pre = malloc((size_t)n * sizeof *pre);
+    unsigned char *mark = calloc((size_t)n, 1);
+    cholmod_dense *X = NULL, *Y = NULL, *E = NULL;
+    memcpy(ref, y, (size_t)n * sizeof *ref);
+    T_CHECK(aug_ldl_ltsolve_all(base, ref, &X, &Y, &E, &cm) == 0, "full L^-T");
+    static const int nstart[3] = {40, 1, 0};
+    for (int c = 0; c < 3; c++) {
+        for (int k = 0; k < nstart[c]; k++) start[k] = (int32_t)gsl_rng_uniform_int(f.r, (unsigned long)n);
+        int64_t nc = aug_ldl_closure(base, start, nstart[c], C, mark);
+        T_CHECK(aug_ldl_closure_pre(base, C, nc, pre) == 0, "closure %d: not suffixes", c);
+        int64_t outside = 0;
+        for (int64_t s = 0; s < (int64_t)base->Ls->nsuper; s++) outside += pre[s];
+        T_CHECK(outside == n - nc, "closure %d: %lld columns outside, %lld expected", c, (long long)outside,
+                (long long)(n - nc));
+        /* x_C by the closure solve, the rest deferred */
+        for (int64_t t = 0; t < nc; t++) x[C[t]] = y[C[t]];
+        aug_ldl_ltsolve_closure_super(base, C, nc, x, tmp);
+        T_CHECK(aug_par_ltsolve_rest(NULL, base, pre, y, x) == 0, "rest");
+        double nd = normdiff(x, ref, n);
+        T_CHECK(nd <= 1e-13, "closure %d (%lld columns): %g from the full L^-T", c, (long long)nc, nd);
+        if (nc == 0)
+            T_CHECK(ndiff(x, ref, n) == 0, "empty closure: not the full solve bitwise");
+        /* x_C from the full solve: the rest serially and on two threads */
+        for (int64_t t = 0; t < nc; t++) x[C[t]] = x2[C[t]] = ref[C[t]];
+        T_CHECK(aug_par_ltsolve_rest(NULL, base, pre, y, x) == 0 && aug_par_ltsolve_rest(p, base, pre, y, x2) == 0,
+                "rest");
+        nd = normdiff(x, ref, n);
+        T_CHECK(nd <= 1e-13, "closure %d, x_C given: %g from the full L^-T", c, nd);
+        int64_t d = ndiff(x, x2, n);
+        T_CHECK(d == 0, "closure %d: two threads differ from one in %lld entries", c, (long long)d);
+    }
+    /* a set that is not an etree closure's suffix form is refused */
+    const int *sup = base->Ls->super;
+    if (base->Ls->nsuper > 0 && sup[1] - sup[0] > 1) {
+        int32_t first = (int32_t)sup[0];
+        T_CHECK(aug_ldl_closure_pre(base, &first, 1, pre) == -1, "a first column alone accepted as a suffix");
+    }
+    cholmod_free_dense(&X, &cm), cholmod_free_dense(&Y, &cm), cholmod_free_dense(&E, &cm);
+    free(y), free(ref), free(x), free(x2), free(tmp), free(start), free(C), free(pre), free(mark), free(b);
+    aug_par_free(p);
+    aug_base_release(base, &cm);
+    fix_close(&f);
+}
+
 /* a simplicial factor or a one-supernode one has no split */
 static void no_split_without_tree(void)
 {
@@ -320,6 +397,7 @@ int main(void)
     T_RUN(solves_bitwise_blas1);
     T_RUN(solves_bitwise_blas2);
     T_RUN(full_solve_and_base);
+    T_RUN(deferred_rest);
     T_RUN(no_split_without_tree);
     cholmod_finish(&cm);
     T_EXIT();
