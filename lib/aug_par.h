@@ -58,6 +58,10 @@ typedef struct aug_par_plan {
    subtree root into the top part (a greedy of nested dissection trees);
    NULL when Ls is not supernodal, out of memory, or no split gains. */
 aug_par_plan *aug_par_plan_new(const cholmod_factor *Ls);
+/* b->par_plan = the split of b->Ls, once, for a base solved on a pool (its
+   greedy costs 3-6 ms on the 2-D square's 5k DOFs: a one-thread run never
+   builds it); a NULL plan (no split, or out of memory): serial solves */
+void aug_base_split(aug_base *b);
 void aug_par_plan_free(aug_par_plan *pl);
 
 /* ---- solves (par_solve.c) ----------------------------------------------- */

@@ -120,7 +120,9 @@ typedef struct aug_base {
                             full back-substitutions (NULL: none) */
     double *sqrtd;       /* sqrt(D(j,j)), permuted order, when Ls is set */
     int32_t *super_of;   /* supernode of each column of Ls */
-    struct aug_par_plan *par_plan; /* Ls's two-core split (aug_par.h; NULL: none) */
+    struct aug_par_plan *par_plan; /* Ls's two-core split (aug_par.h; NULL: none,
+                            or not asked for: aug_base_split) */
+    int split_done;      /* aug_base_split ran */
 } aug_base;
 
 /* Take L (simplicial or supernodal: converted to simplicial LDL'), check

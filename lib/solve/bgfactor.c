@@ -13,6 +13,7 @@
 #include <malloc.h>
 #endif
 #include "aug_solve.h"
+#include "aug_par.h"
 
 struct aug_bg {
     pthread_t th;
@@ -176,6 +177,7 @@ static void *work(void *arg)
     cholmod_factor *L = analyze(bg);
     if (L && cholmod_factorize(bg->K, L, &bg->cm) && L->minor == L->n) {
         bg->base = aug_base_new(L, bg->K, bg->f, bg->step, &bg->cm, &bg->err);
+        if (bg->base && bg->nthreads >= 2) aug_base_split(bg->base); /* the caller's pool solves on it */
     } else {
         if (L) cholmod_free_factor(&L, &bg->cm);
         aug_err_set(&bg->err, AUG_ESINGULAR, -1, "UPDT",

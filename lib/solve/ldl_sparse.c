@@ -220,7 +220,6 @@ aug_base *aug_base_new(cholmod_factor *L, const cholmod_sparse *Kb, const double
         const int *sup = b->Ls->super;
         for (size_t s = 0; s < b->Ls->nsuper; s++)
             for (int j = sup[s]; j < sup[s + 1]; j++) b->super_of[j] = (int32_t)s;
-        b->par_plan = aug_par_plan_new(b->Ls); /* NULL: no split, serial solves */
     }
     free(mark);
     free(work);

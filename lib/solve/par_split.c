@@ -171,3 +171,10 @@ fail:
     aug_par_plan_free(pl);
     return NULL;
 }
+
+void aug_base_split(aug_base *b)
+{
+    if (b->split_done || !b->Ls) return;
+    b->split_done = 1;
+    b->par_plan = aug_par_plan_new(b->Ls);
+}

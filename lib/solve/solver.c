@@ -140,6 +140,7 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     }
     double tb0 = 1e3 * aug_now();
     s->base = aug_base_new(L0, K0, f0, -1, cm, e);
+    if (s->base && s->par) aug_base_split(s->base);
     double t_base0 = 1e3 * aug_now() - tb0;
     if (!s->base || aug_cum_init(&s->cum, s->base->n, e)) goto fail;
     if (s->use[AUG_M_AUTO] && (s->use[AUG_M_AMPS] || s->use[AUG_M_GMRES])) {
@@ -304,6 +305,7 @@ static int swap_base(aug_solver *s, aug_base *nb, aug_err *e)
 {
     aug_base_release(s->base, s->cm);
     s->base = nb;
+    if (s->par) aug_base_split(nb); /* the job split it already */
     aug_cum_free(&s->cum);
     int wr = s->amps.schur.want_rcond;
     aug_amps_free(&s->amps);
@@ -603,6 +605,7 @@ static int auto_rebase(aug_solver *s, step_res *r, aug_err *e)
     }
     aug_base_release(s->base, s->cm);
     s->base = nb;
+    if (s->par) aug_base_split(nb);
     aug_cum_free(&s->cum);
     int wr = s->amps.schur.want_rcond, uc = s->amps.memo.use_cholmod;
     aug_amps_free(&s->amps);

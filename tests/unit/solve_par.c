@@ -259,6 +259,7 @@ static int base_open(fixture *f, double **b, aug_base **base, aug_par **p)
     cholmod_factor *L0 = cholmod_copy_factor(f->L, &cm);
     *base = aug_base_new(L0, f->K, *b, -1, &cm, &e);
     *p = aug_par_new(2);
+    if (*base) aug_base_split(*base);
     T_CHECK(*base && (*base)->Ls && (*base)->par_plan && *p, "base with Ls, split, pool: %s", e.msg);
     if (*base && (*base)->Ls && (*base)->par_plan && *p) return 0;
     aug_base_release(*base, &cm), aug_par_free(*p), free(*b);
