@@ -143,13 +143,17 @@ static double resid_norm(const cholmod_sparse *K, const double *f, const double 
 /* x = K^-1 f = P' Ls^-T Ls^-1 P f (cholmod_solve2, CHOLMOD_A); 0 or -1 */
 static int supernodal_solve(cholmod_factor *Ls, const double *f, double *x, cholmod_common *cm)
 {
-    cholmod_dense B = {0}, *X = NULL;
+    cholmod_dense B = {0}, *X = NULL, *Y = NULL, *E = NULL;
     B.nrow = B.d = B.nzmax = Ls->n, B.ncol = 1;
     B.x = (void *)f, B.xtype = CHOLMOD_REAL, B.dtype = CHOLMOD_DOUBLE;
-    if (!cholmod_solve2(CHOLMOD_A, Ls, &B, NULL, &X, NULL, NULL, NULL, cm)) return -1;
-    memcpy(x, X->x, Ls->n * sizeof *x);
+    /* the workspaces Y and E passed and freed here: with NULL handles this
+       CHOLMOD (libcholmod.so.3) keeps its Y allocated (LeakSanitizer) */
+    int ok = cholmod_solve2(CHOLMOD_A, Ls, &B, NULL, &X, NULL, &Y, &E, cm);
+    if (ok) memcpy(x, X->x, Ls->n * sizeof *x);
     cholmod_free_dense(&X, cm);
-    return 0;
+    cholmod_free_dense(&Y, cm);
+    cholmod_free_dense(&E, cm);
+    return ok ? 0 : -1;
 }
 
 /* The base of the augmented methods: P K_b P' = L D L' simplicial (the R = L D L'
