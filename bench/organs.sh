@@ -52,15 +52,23 @@ status=0
 
 # each method of METHODS (and extra runs "name:options") on stream $2, in
 # REPEAT rounds (each round runs every method once, so that a slow spell of
-# the machine hits them alike); per method the round whose total over the
+# the machine hits them alike; round r starts at the r-th method, so that
+# no method holds the same slot in every round: consecutive runs on this
+# machine differ by up to 20% in every phase, the full solve timed next to
+# the steps too, 4.8 to 5.8 ms on the liver); per method the round whose total over the
 # steps is the median is kept as $O/organs_$1_NAME.csv (organs_tools.py
 # median_run), then the summary rows of scene $1 kind $3
 solve_all() {
     s_sc=$1 s_in=$2 s_kind=$3; shift 3
     s_files="" s_bad=""
     s_r=1
+    # one run a line (an extra run's options hold blanks)
+    s_all=$(printf '%s\n' $(echo $METHODS | tr , ' ') "$@")
+    s_cnt=$(printf '%s\n' "$s_all" | wc -l)
     while [ $s_r -le $REPEAT ]; do
-        for s_m in $(echo $METHODS | tr , ' ') "$@"; do
+        s_k=$(( (s_r - 1) % s_cnt ))
+        s_order=$(printf '%s\n' "$s_all" | tail -n +$((s_k + 1)); printf '%s\n' "$s_all" | head -n $s_k)
+        while IFS= read -r s_m; do
             s_name=${s_m%%:*}; s_opts=""; case $s_m in *:*) s_opts=${s_m#*:};; esac
             [ "$s_m" = ampsbg ] && s_opts="--method amps --background"
             [ -n "$s_opts" ] || s_opts="--method $s_m"
@@ -68,7 +76,9 @@ solve_all() {
             # shellcheck disable=SC2086
             if ! $B/solve-aug $s_opts --time-full --on-singular report < $s_in 2> $T/err | $B/stats --csv > $T/r_${s_name}_$s_r.csv 2>> $T/err
             then echo "organs.sh: $s_sc $s_kind $s_name: $(tail -1 $T/err)" >&2; status=1; s_bad="$s_bad $s_name"; fi
-        done
+        done <<EOF
+$s_order
+EOF
         s_r=$((s_r + 1))
     done
     for s_m in $(echo $METHODS | tr , ' ') "$@"; do

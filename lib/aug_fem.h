@@ -93,6 +93,15 @@ void aug_factor_options(cholmod_common *cm, int ordering, int simplicial);
 const char *aug_ordering_name(int cholmod_ordering);
 /* cholmod_analyze with errors as aug_err. */
 cholmod_factor *aug_analyze(cholmod_sparse *K, cholmod_common *cm, aug_err *e);
+/* The symbolic factor of K for augmented solves: with AUG_ORDER_AUTO, a
+   supernodal factor and >= 2,000 DOFs, AMD or METIS by the least lnz + 4
+   mean closure work (aug_closure_work); otherwise aug_analyze. cm->lnz and
+   cm->fl describe the factor returned. */
+cholmod_factor *aug_analyze_steps(cholmod_sparse *K, int ordering, cholmod_common *cm, aug_err *e);
+/* Mean over columns j of the entries of L on the etree path of j (the
+   work of a sparse substitution from e_j) for a supernodal symbolic L;
+   -1 if L is simplicial. */
+double aug_closure_work(const cholmod_factor *L);
 /* Numeric factorization; not positive definite -> AUG_ESINGULAR naming the
    pivot column and (m, map non-NULL) its node and connected component. */
 int aug_factorize(cholmod_sparse *K, cholmod_factor *L, const aug_mesh *m, const int32_t *map,

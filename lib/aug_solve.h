@@ -391,6 +391,8 @@ typedef struct aug_refactor {
     int singular;
     cholmod_dense *X, *Y, *E; /* cholmod_solve2 workspaces */
     const void *given;   /* the base aug_refactor_take_base gave its factor to */
+    int step_cost;       /* re-order by aug_analyze_steps (a base for AMPS),
+                            not CHOLMOD's least fill */
 } aug_refactor;
 void aug_refactor_init(aug_refactor *r);
 void aug_refactor_free(aug_refactor *r, cholmod_common *cm);

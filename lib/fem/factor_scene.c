@@ -57,7 +57,7 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
     r->t_asm = aug_now() - t0;
     aug_factor_options(cm, o->ordering, o->simplicial);
     t0 = aug_now();
-    if (!(r->L = aug_analyze(F, cm, e))) return e->code;
+    if (!(r->L = aug_analyze_steps(F, o->ordering, cm, e))) return e->code;
     r->t_an = aug_now() - t0;
     r->lnz = cm->lnz;
     r->fl = cm->fl;

@@ -134,13 +134,11 @@ fail:
 }
 
 /* P K P' = L D L' analysed with the ordering perm as given (CHOLMOD_GIVEN,
-   postordered); nmethods = 0 instead lets CHOLMOD also try AMD (and METIS on
-   high fill) and keep the ordering of least fill. NULL on failure. */
-static cholmod_factor *analyze_given(aug_bg *bg, int nmethods)
+   postordered); NULL on failure */
+static cholmod_factor *analyze_given(aug_bg *bg)
 {
     int nm = bg->cm.nmethods, ord = bg->cm.method[0].ordering;
-    bg->cm.nmethods = nmethods;
-    if (nmethods == 1) bg->cm.method[0].ordering = CHOLMOD_GIVEN;
+    bg->cm.nmethods = 1, bg->cm.method[0].ordering = CHOLMOD_GIVEN;
     cholmod_factor *L = cholmod_analyze_p(bg->K, bg->perm, NULL, 0, &bg->cm);
     bg->cm.nmethods = nm, bg->cm.method[0].ordering = ord;
     return L;
@@ -148,8 +146,8 @@ static cholmod_factor *analyze_given(aug_bg *bg, int nmethods)
 
 /* the ordering of the job: the base's, extended by the DOFs added since (no
    ordering cost), while its fill nnz(L) stays within REORDER_FILL of lnz_ref;
-   beyond it CHOLMOD orders K anew, the extended ordering among the candidates,
-   and the least fill becomes lnz_ref. The extended ordering puts every new DOF
+   beyond it K is ordered anew, AMD or METIS by the cost of an AMPS step
+   (aug_analyze_steps), and its fill becomes lnz_ref. The extended ordering puts every new DOF
    last, on top of the elimination tree, so its fill grows with the steps (the
    1 x 1 x 2 brick in 8 x 20 x 48 cells, one node a step: +50% in 1,000 steps,
    and both bases in memory with it: hence tighter than the 1.2 of the
@@ -158,12 +156,13 @@ static cholmod_factor *analyze_given(aug_bg *bg, int nmethods)
 static cholmod_factor *analyze(aug_bg *bg)
 {
     if (!bg->perm) return cholmod_analyze(bg->K, &bg->cm);
-    cholmod_factor *L = analyze_given(bg, 1);
+    cholmod_factor *L = analyze_given(bg);
     if (!L) return NULL;
     if (bg->lnz_ref == 0) bg->lnz_ref = bg->cm.lnz;
     if (!(bg->cm.lnz > REORDER_FILL * bg->lnz_ref)) return L;
     cholmod_free_factor(&L, &bg->cm);
-    L = analyze_given(bg, 0);
+    aug_err e;
+    L = aug_analyze_steps(bg->K, AUG_ORDER_AUTO, &bg->cm, &e);
     if (L) bg->lnz_ref = bg->cm.lnz;
     return L;
 }

@@ -123,7 +123,10 @@ static cholmod_factor *analyze_given(aug_refactor *r, cholmod_sparse *K, cholmod
    extended one (extend_order), re-ordered by CHOLMOD (cholmod_analyze, its
    ordering then extended in turn) only when the fill nnz(L) exceeds
    AUG_REFACTOR_FILL times that of the last ordering CHOLMOD chose; without
-   one, cholmod_analyze every time (a fresh analysis). */
+   one, cholmod_analyze every time (a fresh analysis). A re-ordering for a
+   base of the augmented methods (r->step_cost: auto's re-factorization)
+   picks AMD or METIS by the cost of an AMPS step (aug_analyze_steps), the
+   refactor baseline CHOLMOD's least fill. */
 static cholmod_factor *analyze(aug_refactor *r, cholmod_sparse *K, cholmod_common *cm)
 {
     r->reordered = 0;
@@ -136,7 +139,8 @@ static cholmod_factor *analyze(aug_refactor *r, cholmod_sparse *K, cholmod_commo
         if (!(cm->lnz > AUG_REFACTOR_FILL * r->lnz_ref)) return L;
         cholmod_free_factor(&L, cm);
     }
-    cholmod_factor *L = cholmod_analyze(K, cm);
+    aug_err e;
+    cholmod_factor *L = r->step_cost ? aug_analyze_steps(K, AUG_ORDER_AUTO, cm, &e) : cholmod_analyze(K, cm);
     if (!L) return NULL;
     r->lnz = r->lnz_ref = cm->lnz;
     if (r->perm) {

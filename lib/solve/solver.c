@@ -165,6 +165,7 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
             goto fail;
         }
         s->au_rf.lnz_ref = base_lnz(s->base);
+        s->au_rf.step_cost = 1;
     }
     /* refactor extends the ordering of K0 (README: the baselines' configuration) */
     if (s->use[AUG_M_REFACTOR] && aug_refactor_order(&s->rf, s->base->perm, s->base->n)) {

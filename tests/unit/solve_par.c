@@ -414,6 +414,77 @@ static void super_base_closed(void)
     fix_close(&f);
 }
 
+/* aug_closure_work of a supernodal symbolic factor (the supernode chains)
+   against its simplicial copy: parent(j) the smallest row below the
+   diagonal of column j, and the sum of Lnz over each column's path to the
+   root, for every j (an O(n depth) walk, independent of the supernodes) */
+static void closure_work_paths(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 7);
+    cholmod_sparse *K = grid_matrix(r);
+    cm.supernodal = CHOLMOD_SUPERNODAL;
+    cholmod_factor *L = cholmod_analyze(K, &cm);
+    cm.supernodal = CHOLMOD_AUTO;
+    double w = aug_closure_work(L);
+    cholmod_factorize(K, L, &cm);
+    cholmod_factor *S = cholmod_copy_factor(L, &cm);
+    cholmod_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, S, &cm);
+    int64_t n = (int64_t)S->n;
+    const int *Sp = S->p, *Si = S->i, *Snz = S->nz;
+    int32_t *par = malloc((size_t)n * sizeof *par);
+    for (int64_t j = 0; j < n; j++) {
+        par[j] = -1;
+        for (int k = Sp[j] + 1; k < Sp[j] + Snz[j]; k++)
+            if (par[j] < 0 || Si[k] < par[j]) par[j] = Si[k];
+    }
+    long double tot = 0;
+    for (int64_t j = 0; j < n; j++)
+        for (int64_t k = j; k >= 0; k = par[k]) tot += Snz[k];
+    T_CHECK(w > 0 && fabs(w - (double)(tot / n)) <= 1e-12 * w, "closure work %.17g, by paths %.17g",
+            w, (double)(tot / n));
+    T_CHECK(aug_closure_work(S) < 0, "a simplicial factor has no supernodal closure work");
+    free(par);
+    cholmod_free_factor(&S, &cm);
+    cholmod_free_factor(&L, &cm);
+    cholmod_free_sparse(&K, &cm);
+    gsl_rng_free(r);
+}
+
+/* aug_analyze_steps returns the candidate (AMD or METIS alone) of least
+   lnz + 4 closure work, and cm->lnz describes it; a forced ordering is kept */
+static void ordering_by_step_cost(void)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 9);
+    cholmod_sparse *K = grid_matrix(r);
+    double cost[2], lnz[2];
+    static const int cand[2] = {CHOLMOD_AMD, CHOLMOD_METIS};
+    for (int c = 0; c < 2; c++) {
+        aug_factor_options(&cm, c == 0 ? AUG_ORDER_AMD : AUG_ORDER_METIS, 0);
+        cholmod_factor *L = cholmod_analyze(K, &cm);
+        T_CHECK(L && L->ordering == cand[c], "candidate %d", c);
+        lnz[c] = cm.lnz, cost[c] = cm.lnz + 4 * aug_closure_work(L);
+        cholmod_free_factor(&L, &cm);
+    }
+    aug_err e;
+    aug_factor_options(&cm, AUG_ORDER_AUTO, 0);
+    cholmod_factor *L = aug_analyze_steps(K, AUG_ORDER_AUTO, &cm, &e);
+    int b = cost[1] < cost[0];
+    T_CHECK(L && L->ordering == cand[b], "chose %d, costs amd %g metis %g", L ? L->ordering : -1, cost[0], cost[1]);
+    T_CHECK(cm.lnz == lnz[b], "cm.lnz %g, the chosen one's %g", cm.lnz, lnz[b]);
+    T_CHECK(cm.nmethods == 0, "the options restored");
+    cholmod_free_factor(&L, &cm);
+    aug_factor_options(&cm, AUG_ORDER_AMD, 0);
+    L = aug_analyze_steps(K, AUG_ORDER_AMD, &cm, &e);
+    T_CHECK(L && L->ordering == CHOLMOD_AMD, "--ordering amd kept");
+    cholmod_free_factor(&L, &cm);
+    aug_factor_options(&cm, AUG_ORDER_AUTO, 0);
+    cm.supernodal = CHOLMOD_AUTO;
+    cholmod_free_sparse(&K, &cm);
+    gsl_rng_free(r);
+}
+
 /* a simplicial factor or a one-supernode one has no split */
 static void no_split_without_tree(void)
 {
@@ -440,6 +511,8 @@ int main(void)
     T_RUN(deferred_rest);
     T_RUN(super_base_closed);
     T_RUN(no_split_without_tree);
+    T_RUN(closure_work_paths);
+    T_RUN(ordering_by_step_cost);
     cholmod_finish(&cm);
     T_EXIT();
 }
