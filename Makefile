@@ -22,6 +22,8 @@ LIB_OBJ := $(LIB_SRC:lib/%.c=$(B)/lib/%.o)
 CLI_SRC := $(wildcard lib/cli/*.c)
 CLI_OBJ := $(CLI_SRC:lib/cli/%.c=$(B)/cli/%.o)
 HDRS    := $(wildcard lib/*.h lib/cli/*.h)
+TEST_HDRS := $(wildcard tests/unit/*.h)
+NPROC   := $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
 TOOLS   := $(patsubst %.c,%,$(wildcard bin/*.c))
 UNIT_SRC := $(wildcard tests/unit/*.c)
 UNIT    := $(UNIT_SRC:tests/unit/%.c=$(B)/tests/%)
@@ -80,7 +82,7 @@ bin/cut: bin/cut.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS)
 bin/%: bin/%.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS)
 	$(CC) $(CFLAGS) -o $@ $< $(B)/libaugcli.a lib/libaugcut.a $(LDLIBS_NUM)
 
-$(B)/tests/%: tests/unit/%.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS)
+$(B)/tests/%: tests/unit/%.c $(B)/libaugcli.a lib/libaugcut.a $(HDRS) $(TEST_HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) -Itests/unit -o $@ $< $(B)/libaugcli.a lib/libaugcut.a $(LDLIBS_NUM)
 
@@ -93,7 +95,7 @@ $(B)/asan/libaugcut.a: $(LIB_SRC:lib/%.c=$(B)/asan/lib/%.o)
 	rm -f $@ && ar rcs $@ $^
 $(B)/asan/libaugcli.a: $(CLI_SRC:lib/%.c=$(B)/asan/lib/%.o)
 	rm -f $@ && ar rcs $@ $^
-$(B)/asan/tests/%: tests/unit/%.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(HDRS)
+$(B)/asan/tests/%: tests/unit/%.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(HDRS) $(TEST_HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) $(ASAN_FLAGS) -Itests/unit -o $@ $< $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(LDLIBS_NUM)
 ASAN_UNIT := $(UNIT_SRC:tests/unit/%.c=$(B)/asan/tests/%)
@@ -145,29 +147,29 @@ $(B)/scenes/dome.msh: scenes/dome.geo
 scenes: $(SCENES)
 
 check: deps
-	@$(MAKE) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS) >$(B).log 2>&1 || { mkdir -p $(B); cat $(B).log; exit 1; }
+	@$(MAKE) -j$(NPROC) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS) >$(B).log 2>&1 || { mkdir -p $(B); cat $(B).log; exit 1; }
 	@sh tests/run.sh
 
 check-asan: deps
-	@$(MAKE) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS)
+	@$(MAKE) -j$(NPROC) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS)
 	@sh tests/run.sh --asan-only
 
 check-valgrind: deps
-	@$(MAKE) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
+	@$(MAKE) -j$(NPROC) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
 	@sh tests/valgrind.sh
 
 demo: deps
-	@$(MAKE) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
+	@$(MAKE) -j$(NPROC) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
 	@sh bench/demo.sh
 
 bench: deps
-	@$(MAKE) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
+	@$(MAKE) -j$(NPROC) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
 	@sh bench/run.sh
 
 # Hand-written source mutants against the tests (tests/mutate/mutants.txt);
 # MUTATE_FULL=1 runs every shell test for each.
 mutate: deps
-	@$(MAKE) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
+	@$(MAKE) -j$(NPROC) --no-print-directory all scenes >$(B).log 2>&1 || { cat $(B).log; exit 1; }
 	@sh tests/mutate/run.sh
 
 FUZZ_TIME ?= 60

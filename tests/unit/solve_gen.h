@@ -233,20 +233,31 @@ static double *gen_direct(const gen *g, cholmod_common *cm)
     return x;
 }
 
+/* r = f - K_t x with the dense K_t, column by column (contiguous) */
+static inline void gen_residual(const gen *g, const double *x, double *r)
+{
+    memcpy(r, g->f, (size_t)g->n * sizeof *r);
+    for (int64_t j = 0; j < g->n; j++) {
+        const double *kj = g->K + j * g->ncap;
+        for (int64_t i = 0; i < g->n; i++) r[i] -= kj[i] * x[j];
+    }
+}
+
 /* the UPDT of the change (Kold, fold, nold) -> (g->K, g->f, g->n) */
 static void gen_diff(const gen *g, const double *Kold, int64_t ldo, const double *fold, int64_t nold,
                      int32_t step, aug_update *u)
 {
     int64_t ld = g->ncap, n = g->n, k = n - nold, m = 0;
     int32_t *H = malloc((size_t)(nold + 1) * sizeof *H);
-    for (int64_t i = 0; i < nold; i++) {
-        int ch = fold[i] != g->f[i];
-        for (int64_t j = 0; j < n && !ch; j++) {
-            double kt = g->K[i + j * ld], ko = j < nold ? Kold[i + j * ldo] : 0;
-            ch = kt != ko;
-        }
-        if (ch) H[m++] = (int32_t)i;
+    char *ch = calloc((size_t)(nold + 1), 1);
+    /* rows that changed, read column by column (contiguous) */
+    for (int64_t j = 0; j < n; j++) {
+        const double *kt = g->K + j * ld, *ko = j < nold ? Kold + j * ldo : NULL;
+        for (int64_t i = 0; i < nold; i++) ch[i] |= kt[i] != (ko ? ko[i] : 0);
     }
+    for (int64_t i = 0; i < nold; i++)
+        if (ch[i] || fold[i] != g->f[i]) H[m++] = (int32_t)i;
+    free(ch);
     int64_t s = m + k;
     aug_update_init(u);
     u->step = step, u->m = (int32_t)m, u->k = (int32_t)k;
