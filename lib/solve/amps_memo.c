@@ -35,6 +35,7 @@ static inline __attribute__((always_inline)) void grow_pass(aug_memo *M, const a
         }
     for (int64_t i = 0; i < M->m; i++) {
         double acc[QB], tot[QB];
+#pragma GCC unroll 32
         for (int q = 0; q < QB; q++) acc[q] = tot[q] = 0;
         int cnt = 0;
         for (int64_t t = M->vp[i + 1] - 1; t >= M->vp[i]; t--) {
@@ -42,9 +43,11 @@ static inline __attribute__((always_inline)) void grow_pass(aug_memo *M, const a
             if (row[r] < 0) break;
             const double *Wr = W + (int64_t)row[r] * QB;
             double v = M->vx[t];
+#pragma GCC unroll 32
             for (int q = 0; q < QB; q++) acc[q] += v * Wr[q];
             if (++cnt == CHUNK) {
                 cnt = 0;
+#pragma GCC unroll 32
                 for (int q = 0; q < QB; q++) tot[q] += acc[q], acc[q] = 0;
             }
         }
@@ -57,7 +60,16 @@ static inline __attribute__((always_inline)) void grow_pass(aug_memo *M, const a
 
 /* the new columns in passes of 32, 16 or 8: each pass runs over every
    column's suffix once, so wide passes read V and W fewer times (brain, 16
-   steps of 8 nodes: 36-87 new columns a step against up to 830) */
+   steps of 8 nodes: 36-87 new columns a step against up to 830). The q loops
+   are unrolled so that the QB sums stay in registers, and an AVX2 clone is
+   chosen at load time where the CPU has it: the lanes are the independent
+   sums q, each still added in the same order, and AVX2 without FMA does not
+   contract v * W + acc, so every clone gives the same bits (the dumps of
+   the brain's 8-node steps are identical). Brain, 16 steps of 8 nodes:
+   median memo 40 -> 22 ms a step, the AMPS step 122 -> 88 ms. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 int aug_memo_grow(aug_memo *M, const aug_base *b, aug_err *e)
 {
     if (M->m_new == 0) return 0;
