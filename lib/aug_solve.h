@@ -317,6 +317,10 @@ typedef struct aug_amps {
     struct aug_par *par; /* borrowed two-core pool for the full L^-T (NULL: serial) */
     double xnorm;        /* ||x_t|| on base DOFs of the last full field ... */
     const void *xnorm_b; /* ... on this base (relres_floor of a deferred L^-T) */
+    double cancel;       /* (||a_b|| + ||Kbar^-1 P_S w||) / ||x_t|| of the last full
+                            field (NaN: an output set): how far the rows outside S
+                            may carry more than a fresh solve's rounding */
+    double floor_end;    /* relres_floor with this step's ||x_t|| (full field) */
 } aug_amps;
 
 /* Schur pivots of AMPS (paper 001): S2 of eq. 3.8, the (1,2) block of S1 as

@@ -234,6 +234,36 @@ static int full_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t n1
                           s->ipiv);
 }
 
+/* the row interchanges (sa[t], sb[t]), t = 0..ns-1 in this order, applied to
+   the columns c0..c0+nc of LU: the same moves as one cblas_dswap per
+   interchange (the same bits), but column by column through one gather,
+   where a dswap of a row strides ld doubles (a page apart at ld >= 512) and
+   the interchanges of one step were the largest part of S2's upkeep on the
+   liver. idx, tmp: workspace for the rows between the first and last one
+   moved. */
+static void swap_rows(double *LU, int64_t ld, int64_t c0, int64_t nc, const int32_t *sa,
+                      const int32_t *sb, int64_t ns, int32_t *idx, double *tmp)
+{
+    int64_t lo = INT64_MAX, hi = -1;
+    for (int64_t t = 0; t < ns; t++) {
+        int64_t a = sa[t] < sb[t] ? sa[t] : sb[t], b = sa[t] < sb[t] ? sb[t] : sa[t];
+        if (a < lo) lo = a;
+        if (b > hi) hi = b;
+    }
+    if (hi < 0 || nc <= 0) return;
+    int64_t len = hi + 1 - lo;
+    for (int64_t r = 0; r < len; r++) idx[r] = (int32_t)(lo + r); /* row now at lo + r came from */
+    for (int64_t t = 0; t < ns; t++) {
+        int32_t x = idx[sa[t] - lo];
+        idx[sa[t] - lo] = idx[sb[t] - lo], idx[sb[t] - lo] = x;
+    }
+    for (int64_t j = c0; j < c0 + nc; j++) {
+        double *col = LU + j * ld;
+        for (int64_t r = 0; r < len; r++) tmp[r] = col[idx[r]];
+        memcpy(col + lo, tmp, (size_t)len * sizeof *tmp);
+    }
+}
+
 /* the factorization of order n0 extended to n1 and re-eliminated from column k0
    (right-looking block LU, [GVL] ch. 3): new rows L21 = S2(n0:n1, 0:k0) U11^-1,
    U12 = L11^-1 P S2(0:k0, k0:n1), trailing S2_22 - L21 U12 by dgetrf, its pivots
@@ -244,33 +274,52 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t 
     int64_t ld = s->scap, nt = n1 - k0, nn = n1 - n0;
     double *LU = s->S2;
     int *ipiv = s->ipiv;
+    int32_t *sw = aug_malloc((size_t)(3 * n1 + 1) * sizeof *sw);
+    double *tmp = aug_malloc((size_t)(n1 + 1) * sizeof *tmp);
+    if (!sw || !tmp) {
+        free(sw), free(tmp);
+        return -3;
+    }
+    int32_t *sa = sw, *sb = sw + n1, *idx = sw + 2 * n1;
+    int64_t ns = 0;
     /* rows of L(:, 0:k0) back to their order after the first k0 interchanges */
     for (int64_t i = n0 - 1; i >= k0; i--)
-        if (ipiv[i] - 1 != i) cblas_dswap((int)k0, LU + i, (int)ld, LU + ipiv[i] - 1, (int)ld);
+        if (ipiv[i] - 1 != i) sa[ns] = (int32_t)i, sb[ns++] = ipiv[i] - 1;
+    swap_rows(LU, ld, 0, k0, sa, sb, ns, idx, tmp);
     if (nn > 0) {
         for (int64_t b = 0; b < k0; b++) s2_column(s, M, b, n0, LU + b * ld, W->wq, W->wv);
         cblas_dtrsm(CblasColMajor, CblasRight, CblasUpper, CblasNoTrans, CblasNonUnit, (int)nn,
                     (int)k0, 1.0, LU, (int)ld, LU + n0, (int)ld);
         for (int64_t b = 0; b < k0; b++)
             for (int64_t r = n0; r < n1; r++)
-                if (!(fabs(LU[r + b * ld]) <= GROWTH_MAX)) return -2;
+                if (!(fabs(LU[r + b * ld]) <= GROWTH_MAX)) {
+                    free(sw), free(tmp);
+                    return -2;
+                }
     }
     for (int64_t b = k0; b < n1; b++) s2_column(s, M, b, 0, LU + b * ld, W->wq, W->wv);
+    ns = 0;
     for (int64_t i = 0; i < k0; i++)
-        if (ipiv[i] - 1 != i)
-            cblas_dswap((int)nt, LU + i + k0 * ld, (int)ld, LU + ipiv[i] - 1 + k0 * ld, (int)ld);
+        if (ipiv[i] - 1 != i) sa[ns] = (int32_t)i, sb[ns++] = ipiv[i] - 1;
+    swap_rows(LU, ld, k0, nt, sa, sb, ns, idx, tmp);
     cblas_dtrsm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasUnit, (int)k0, (int)nt, 1.0,
                 LU, (int)ld, LU + k0 * ld, (int)ld);
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)nt, (int)nt, (int)k0, -1.0, LU + k0,
                 (int)ld, LU + k0 * ld, (int)ld, 1.0, LU + k0 + k0 * ld, (int)ld);
     lapack_int info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, (lapack_int)nt, (lapack_int)nt,
                                      LU + k0 + k0 * ld, (lapack_int)ld, ipiv + k0);
-    if (info < 0) return (int)info;
+    if (info < 0) {
+        free(sw), free(tmp);
+        return (int)info;
+    }
+    ns = 0;
     for (int64_t i = 0; i < nt; i++) {
         int64_t p = ipiv[k0 + i] - 1;
-        if (p != i) cblas_dswap((int)k0, LU + k0 + i, (int)ld, LU + k0 + p, (int)ld);
+        if (p != i) sa[ns] = (int32_t)(k0 + i), sb[ns++] = (int32_t)(k0 + p);
         ipiv[k0 + i] += (int)k0;
     }
+    swap_rows(LU, ld, 0, k0, sa, sb, ns, idx, tmp);
+    free(sw), free(tmp);
     s->k0 = k0;
     return info > 0 ? (int)(info + k0) : 0;
 }
@@ -342,6 +391,7 @@ int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double r
         goto done;
     }
     int info = k0 > 0 ? update_lu(s, M, &W, n0, n1, k0) : full_lu(s, M, &W, n1);
+    if (info == -3) goto nomem;
     s->flops = aug_s2_flops(n0, n1, k0);
     if (info == -2) info = full_lu(s, M, &W, n1), s->flops += aug_s2_flops(0, n1, 0);
     free(W.wq), free(W.wv);

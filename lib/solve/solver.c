@@ -382,6 +382,15 @@ static void cut_size(const aug_solver *s, aug_kv *st)
    solve on many, for a relres of 1.1e-11 with or without them. */
 #define AMPS_FLOOR 2.0
 
+/* ... unless the field's cancellation (amps_solve.c, field_norms) exceeds
+   AMPS_CANCEL: the rows outside S may then carry more than the floor, and the
+   relres is measured (one product with K_t, no solve); the refinement solve
+   is taken when it exceeds AMPS_CANCEL_REFINE times the floor with this
+   step's ||x_t|| (floor_end, twice a fresh factorization's expected relres):
+   within 10x of refactor's with room for the estimate's error. */
+#define AMPS_CANCEL 4.0
+#define AMPS_CANCEL_REFINE 2.0
+
 /* AMPS (paper 001 eqs. 3.8, 3.20-3.21): V over the reach, memoized H'K^-1H,
    dense S2, the solution on the output closure */
 static int amps_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
@@ -430,6 +439,7 @@ static void amps_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
         put(st, "berr_h0", a->berr_h0), put(st, "berr_h", a->berr_h);
         put(st, "relres_h0", a->relres_h0), put(st, "relres_h", a->relres_h);
         put(st, "relres_floor", a->relres_floor);
+        if (!isnan(a->cancel)) put(st, "cancel", a->cancel);
         put(tm, "correct_ms", a->t_correct);
     }
     put(st, "pivot", a->pivot_used);
@@ -632,7 +642,7 @@ static int64_t steps_left(const aug_solver *s)
 static int auto_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
 {
     int bgr = s->bg && aug_bg_running(s->bg);
-    s->amps.relres_h = NAN; /* a re-factoring step leaves no AMPS residual */
+    s->amps.relres_h = s->amps.cancel = NAN; /* a re-factoring step leaves no AMPS residual */
     int64_t left = steps_left(s);
     if (aug_auto_decide(&s->au, bgr, (int64_t)q->u->m + q->u->k, left) == AUG_AUTO_AMPS) {
         if (s->au_swapped) s->au.reason = AUG_AUTO_SWAPPED;
@@ -704,6 +714,7 @@ static int refine(aug_solver *s, const method *op, const double *b, double *x, d
         return 0;
     }
     double tol = s->o.refine_tol, once = 0; /* once: a single step above this */
+    double measured = NAN;                   /* the relres, when the gate took it */
     if (!fixed && !b && (op->flags & M_TARGET)) {
         /* the residual AMPS promises on well-conditioned meshes (amps_target):
            one step when it is missed (near-detached pieces), more only above
@@ -712,14 +723,25 @@ static int refine(aug_solver *s, const method *op, const double *b, double *x, d
            the limit there, no product with all of K_t is taken */
         once = s->o.amps_target < tol ? s->o.amps_target : 0;
         const aug_amps *a = &s->amps;
-        if (once > 0 && a->kt && a->correct_max > 0 && a->relres_h <= a->relres_floor) once = 0;
-        if (aug_cutmat_relres_changed(&s->cut, x) <= (once > 0 ? once : 0.1 * tol)) {
+        double check = NAN; /* measured: refine above this */
+        if (once > 0 && a->kt && a->correct_max > 0 && a->relres_h <= a->relres_floor) {
+            if (a->cancel > AMPS_CANCEL && a->floor_end > 0) check = AMPS_CANCEL_REFINE * a->floor_end;
+            once = 0;
+        }
+        if (check > 0) {
+            measured = residual(s, b, x, s->tmp);
+            if (!(measured > check)) {
+                *rr = measured;
+                return 0;
+            }
+            once = check; /* one step; more only above tol */
+        } else if (aug_cutmat_relres_changed(&s->cut, x) <= (once > 0 ? once : 0.1 * tol)) {
             *rr = NAN;
             return 0;
         }
     }
     /* the residual vector (s->tmp) and its relative norm in one product */
-    double r = residual(s, b, x, s->tmp);
+    double r = isnan(measured) ? residual(s, b, x, s->tmp) : measured;
     for (it = 0; fixed ? it < s->o.refine_iter
                        : (r > tol || (it == 0 && once > 0 && r > once)) && it < s->o.refine_max;
          it++) {
