@@ -36,6 +36,10 @@ enum {
    DOFs are n_{t-1}..n_{t-1}+k-1. E is (m+k)x(m+k) symmetric, column-major.
    df = f_t - [f_{t-1}; 0] restricted to Hbar (loads changed on H and loads on
    the new DOFs). */
+/* the largest m + k a writer produces (formats/stream.md 7.2: E is dense,
+   16384^2 doubles = 2 GiB) */
+#define AUG_UPDT_MAX_ORDER 16384
+
 typedef struct aug_update {
     int32_t step;
     int32_t m, k;

@@ -221,8 +221,17 @@ static int index_set(ubuild *b)
         if (w == 0 || b->h[w - 1].idx != b->h[i].idx) b->h[w++] = b->h[i];
     b->m = w;
     b->s = b->m + b->k;
-    if (b->s > (1 << 20))
-        return aug_err_set(b->e, AUG_EDATA, -1, "UPDT", "update of order %lld is too large", (long long)b->s);
+    /* E is dense (formats/stream.md 7.2): a step that changes more than
+       AUG_UPDT_MAX_ORDER matrix indices (2 GiB of E; a piece of most of the
+       mesh dropped, every DOF of it an identity row) is refused before it is
+       allocated, written, and read by every tool downstream */
+    if (b->s > AUG_UPDT_MAX_ORDER)
+        return aug_err_set(b->e, AUG_EDATA, -1, "UPDT",
+                           "step %d: the update changes %lld matrix indices (m %lld, k %lld), above %d: its "
+                           "dense E would take %.3g GB; cut fewer nodes a step, or --detached pin a "
+                           "large piece cut loose",
+                           (int)b->d->step, (long long)b->s, (long long)b->m, (long long)b->k,
+                           AUG_UPDT_MAX_ORDER, 8e-9 * (double)b->s * (double)b->s);
     b->E = aug_calloc((size_t)(b->s * b->s) + 1, sizeof *b->E);
     if (b->dyn) {
         b->EK = aug_calloc((size_t)(b->s * b->s) + 1, sizeof *b->EK);
