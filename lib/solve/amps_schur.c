@@ -153,11 +153,19 @@ static void s2_column(const aug_schur *s, const aug_memo *M, int64_t b, int64_t 
         if (s->gi[r] < 0) out[r] *= s->rs[r];
 }
 
-/* workspace for s2_column: the longest list of Ebar_AA */
+/* workspace for s2_column (wq, wv: the longest list of Ebar_AA) and for
+   update_lu's row interchanges (sw: 3 na indices, tmp: na values) */
 typedef struct s2_work {
     int32_t *wq;
     double *wv;
+    int32_t *sw;
+    double *tmp;
 } s2_work;
+
+static void s2_work_free(s2_work *w)
+{
+    free(w->wq), free(w->wv), free(w->sw), free(w->tmp);
+}
 
 static int s2_work_new(const aug_schur *s, s2_work *w)
 {
@@ -166,7 +174,9 @@ static int s2_work_new(const aug_schur *s, s2_work *w)
         if (s->ep[b + 1] - s->ep[b] > len) len = s->ep[b + 1] - s->ep[b];
     w->wq = aug_malloc((size_t)len * sizeof *w->wq);
     w->wv = aug_malloc((size_t)len * sizeof *w->wv);
-    return w->wq && w->wv ? 0 : -1;
+    w->sw = aug_malloc((size_t)(3 * s->na + 1) * sizeof *w->sw);
+    w->tmp = aug_malloc((size_t)(s->na + 1) * sizeof *w->tmp);
+    return w->wq && w->wv && w->sw && w->tmp ? 0 : -1;
 }
 
 /* Ebar_AA column lists, rows increasing in activation order: changed columns
@@ -274,13 +284,8 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t 
     int64_t ld = s->scap, nt = n1 - k0, nn = n1 - n0;
     double *LU = s->S2;
     int *ipiv = s->ipiv;
-    int32_t *sw = aug_malloc((size_t)(3 * n1 + 1) * sizeof *sw);
-    double *tmp = aug_malloc((size_t)(n1 + 1) * sizeof *tmp);
-    if (!sw || !tmp) {
-        free(sw), free(tmp);
-        return -3;
-    }
-    int32_t *sa = sw, *sb = sw + n1, *idx = sw + 2 * n1;
+    int32_t *sa = W->sw, *sb = W->sw + n1, *idx = W->sw + 2 * n1;
+    double *tmp = W->tmp;
     int64_t ns = 0;
     /* rows of L(:, 0:k0) back to their order after the first k0 interchanges */
     for (int64_t i = n0 - 1; i >= k0; i--)
@@ -292,10 +297,7 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t 
                     (int)k0, 1.0, LU, (int)ld, LU + n0, (int)ld);
         for (int64_t b = 0; b < k0; b++)
             for (int64_t r = n0; r < n1; r++)
-                if (!(fabs(LU[r + b * ld]) <= GROWTH_MAX)) {
-                    free(sw), free(tmp);
-                    return -2;
-                }
+                if (!(fabs(LU[r + b * ld]) <= GROWTH_MAX)) return -2;
     }
     for (int64_t b = k0; b < n1; b++) s2_column(s, M, b, 0, LU + b * ld, W->wq, W->wv);
     ns = 0;
@@ -308,10 +310,7 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t 
                 (int)ld, LU + k0 * ld, (int)ld, 1.0, LU + k0 + k0 * ld, (int)ld);
     lapack_int info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, (lapack_int)nt, (lapack_int)nt,
                                      LU + k0 + k0 * ld, (lapack_int)ld, ipiv + k0);
-    if (info < 0) {
-        free(sw), free(tmp);
-        return (int)info;
-    }
+    if (info < 0) return (int)info;
     ns = 0;
     for (int64_t i = 0; i < nt; i++) {
         int64_t p = ipiv[k0 + i] - 1;
@@ -319,7 +318,6 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t 
         ipiv[k0 + i] += (int)k0;
     }
     swap_rows(LU, ld, 0, k0, sa, sb, ns, idx, tmp);
-    free(sw), free(tmp);
     s->k0 = k0;
     return info > 0 ? (int)(info + k0) : 0;
 }
@@ -387,14 +385,13 @@ int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double r
     free(chg);
     chg = NULL;
     if (k0 == n1 && s->nlu == n1) { /* nothing changed */
-        free(W.wq), free(W.wv);
+        s2_work_free(&W);
         goto done;
     }
     int info = k0 > 0 ? update_lu(s, M, &W, n0, n1, k0) : full_lu(s, M, &W, n1);
-    if (info == -3) goto nomem;
     s->flops = aug_s2_flops(n0, n1, k0);
     if (info == -2) info = full_lu(s, M, &W, n1), s->flops += aug_s2_flops(0, n1, 0);
-    free(W.wq), free(W.wv);
+    s2_work_free(&W);
     if (info < 0) return aug_err_set(e, AUG_EUSAGE, -1, "UPDT", "dgetrf: argument %d", -info);
     s->stamp = c->napply;
     if (info > 0) {
@@ -457,7 +454,7 @@ done:
     return 0;
 nomem:
     free(chg);
-    free(W.wq), free(W.wv);
+    s2_work_free(&W);
     aug_schur_free(s);
     return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (S2 %lld)", (long long)n1);
 }

@@ -720,7 +720,8 @@ static int refine(aug_solver *s, const method *op, const double *b, double *x, d
            one step when it is missed (near-detached pieces), more only above
            refine_tol. AMPS's solution is one back-substitution off the rows of
            S, so its residual lies on the rows where K_t differs from K0: below
-           the limit there, no product with all of K_t is taken */
+           the limit there, no product with all of K_t is taken, unless the
+           field cancels (AMPS_CANCEL: measured, refined above check) */
         once = s->o.amps_target < tol ? s->o.amps_target : 0;
         const aug_amps *a = &s->amps;
         double check = NAN; /* measured: refine above this */
