@@ -57,6 +57,13 @@ typedef struct aug_cutmat {
     aug_cum cum;
     double *work, *rwork; /* n-sized scratch */
     int64_t wcap, rcap;
+    /* unit[i]: row (and column) i of K_t is exactly e_i', a constrained DOF
+       kept in the matrix (formats/stream.md 7.2), x_i = f_t(i) in any
+       solution; kept by aug_cutmat_apply for the indices each step touches */
+    unsigned char *unit;
+    int64_t unitcap, k0colmax, ubufcap;
+    double *uscr, *uval; /* column extraction: n-sized zero scratch, values */
+    int32_t *uidx;
 } aug_cutmat;
 
 int aug_cutmat_init(aug_cutmat *m, const cholmod_sparse *K0, const double *f0,
@@ -64,6 +71,13 @@ int aug_cutmat_init(aug_cutmat *m, const cholmod_sparse *K0, const double *f0,
 void aug_cutmat_free(aug_cutmat *m, cholmod_common *cm);
 int aug_cutmat_apply(aug_cutmat *m, const aug_update *u, aug_err *e);
 static inline int64_t aug_cutmat_n(const aug_cutmat *m) { return m->cum.n; }
+/* 1 when row i of K_t is exactly the unit row e_i' (then x_i = f_t(i)) */
+static inline int aug_cutmat_unit(const aug_cutmat *m, int64_t i)
+{
+    return i >= 0 && i < m->unitcap && m->unit[i];
+}
+/* f_t(i) */
+double aug_cutmat_f(const aug_cutmat *m, int64_t i);
 /* y = K_t x */
 void aug_cutmat_mult(const aug_cutmat *m, const double *x, double *y);
 /* f = f_t */
@@ -335,6 +349,12 @@ void aug_amps_free(aug_amps *a);
 int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
                   int64_t nout, double rcond_min, double *u, double times[4],
                   cholmod_common *cm, aug_err *e);
+/* The solution part of aug_amps_step alone, on the S2 and memo the last
+   aug_amps_step or aug_amps_prepare left (same arguments): e.g. the whole
+   field of a step whose output set was solved (the rest of it, for the
+   step's relres), computed as a full-field step computes it. */
+int aug_amps_field(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
+                   int64_t nout, double *u, cholmod_common *cm, aug_err *e);
 /* The per-step work of aug_amps_step without a solve (reach, memo, schur:
    times[0..2] in ms); then any number of aug_amps_solve_general (the frames
    of a dynamic step). */

@@ -294,6 +294,34 @@ static double relres_floor(const aug_amps *a, const aug_base *b, const aug_cum *
     return a->floor_k * b->rnorm * xn / (b->anorm * fnorm);
 }
 
+/* The base DOFs of S whose row of K_t is the unit row e_i' (a constrained
+   DOF kept in the matrix, formats/stream.md 7.2: a piece dropped or pinned, a
+   --constrain or --drag step) take x_i = f_t(i) exactly (rhs given: x_i =
+   rhs_i, a general right-hand side), among the indices set[0..n) (NULL:
+   those of S). AMPS computes them as a_b + y like any other base DOF, and
+   where the constraint undoes the base's displacement (a dropped piece that
+   hung under gravity) the two cancel: on the soft armadillo of
+   tests/solve_amps_cancel.test they kept up to 1.4e-5 where the value is
+   0, the step's largest difference to a fresh solve, and plain AMPS's
+   err_direct was 8x refactor's relres (1.06x with this). The row's column
+   is e_i too, so no other row reads x_i: the value is exact and changes
+   nothing else. The correction on H still sees them as a_b + y (its sweeps
+   lower the residual of the other rows of S as well: taking them exact
+   there skipped a sweep on the bunny of the organs bench, and the step
+   then took a refinement solve instead). */
+static void unit_rows(const aug_amps *a, const aug_cum *c, const int32_t *set, int64_t n,
+                      const double *rhs, double *x)
+{
+    const aug_cutmat *kt = a->kt;
+    if (!kt || !kt->unit) return;
+    if (!set)
+        n = c->ns;
+    for (int64_t t = 0; t < n; t++) {
+        int64_t i = set ? set[t] : c->S[t];
+        if (i < c->nb && aug_cutmat_unit(kt, i)) x[i] = rhs ? rhs[i] : aug_cutmat_f(kt, i);
+    }
+}
+
 /* The cancellation of the full field x_t = [a_b; 0] + y on base DOFs (y =
    Kbar^-1 P_S w, permuted): a->cancel = (||a_b|| + ||y||) / ||x_t||, and
    a->floor_end, relres_floor with this ||x_t||. relres_floor takes the rows
@@ -310,13 +338,18 @@ static double relres_floor(const aug_amps *a, const aug_base *b, const aug_cum *
 static void field_norms(aug_amps *a, const aug_base *b, const aug_cum *c, const double *y,
                         double fnorm)
 {
-    double xx = 0, yy = 0;
+    /* the unit rows (unit_rows) are taken exactly, not as a_b + y: left out
+       of the three norms (a dropped piece that hung far would count as
+       cancellation that no row outside S carries) */
+    double xx = 0, yy = 0, aa = 0;
+    const aug_cutmat *kt = a->kt;
     for (int64_t i = 0; i < c->nb; i++) {
+        if (kt && aug_cutmat_unit(kt, i)) continue;
         double yi = y[b->pinv[i]], v = b->a[i] + yi;
-        xx += v * v, yy += yi * yi;
+        xx += v * v, yy += yi * yi, aa += b->a[i] * b->a[i];
     }
     a->xnorm = sqrt(xx), a->xnorm_b = b;
-    a->cancel = a->xnorm > 0 ? (b->anorm + sqrt(yy)) / a->xnorm : INFINITY;
+    a->cancel = a->xnorm > 0 ? (sqrt(aa) + sqrt(yy)) / a->xnorm : aa + yy > 0 ? INFINITY : 1;
     a->floor_end = relres_floor(a, b, c, NULL, a->xnorm, fnorm);
 }
 
@@ -533,6 +566,17 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
     double t3 = now_ms();
     times[3] = 0;
     if (rc || a->schur.singular) return rc;
+    rc = aug_amps_field(a, b, c, out, nout, u, cm, e);
+    times[3] = now_ms() - t3;
+    return rc;
+}
+
+/* steps 4-6 of aug_amps_step on the prepared S2 and memo: the solution of
+   the step (eqs. 3.20-3.21) with its correction on H, over out or (NULL)
+   every DOF */
+int aug_amps_field(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_t *out,
+                   int64_t nout, double *u, cholmod_common *cm, aug_err *e)
+{
     const aug_memo *M = &a->memo;
     const aug_schur *s = &a->schur;
     double *x = a->x, *wp = a->w, *y = a->y;
@@ -568,6 +612,7 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
         if (i < c->nb) u[i] = b->a[i] + y[b->pinv[i]];
         else if (!s->act[p]) u[i] = c->dF[p] + dw[p];
     }
+    unit_rows(a, c, out, nout, NULL, u);
     for (int64_t aq = 0; aq < s->na; aq++)
         if (c->S[s->A[aq]] >= c->nb) u[c->S[s->A[aq]]] = x[aq];
     a->closure_v = 0;
@@ -582,7 +627,6 @@ int aug_amps_step(aug_amps *a, const aug_base *b, const aug_cum *c, const int32_
         }
     for (int64_t j = 0; j < M->m; j++)
         for (int64_t t = M->vp[j]; t < M->vp[j + 1] && a->mark[M->vi[t]]; t++) a->mark[M->vi[t]] = 0;
-    times[3] = now_ms() - t3;
     return 0;
 }
 
@@ -639,5 +683,6 @@ int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
         if (c->S[p] >= c->nb) x[c->S[p]] += wp[p];
     for (int64_t aq = 0; aq < s->na; aq++)
         if (c->S[s->A[aq]] >= c->nb) x[c->S[s->A[aq]]] = xa[aq];
+    unit_rows(a, c, NULL, 0, r, x);
     return 0;
 }

@@ -175,6 +175,10 @@ int aug_cutmat_init(aug_cutmat *m, const cholmod_sparse *K0, const double *f0,
     m->f0 = aug_malloc((size_t)(m->n0 ? m->n0 : 1) * sizeof *m->f0);
     if (!m->f0) return aug_err_set(e, AUG_ENOMEM, -1, "FVEC", "out of memory");
     memcpy(m->f0, f0, (size_t)m->n0 * sizeof *m->f0);
+    const int *Ap = m->K0->p;
+    m->k0colmax = 1;
+    for (int64_t j = 0; j < m->n0; j++)
+        if (Ap[j + 1] - Ap[j] > m->k0colmax) m->k0colmax = Ap[j + 1] - Ap[j];
     return aug_cum_init(&m->cum, m->n0, e);
 }
 
@@ -184,13 +188,61 @@ void aug_cutmat_free(aug_cutmat *m, cholmod_common *cm)
     free(m->f0);
     free(m->work);
     free(m->rwork);
+    free(m->unit);
+    free(m->uscr);
+    free(m->uval);
+    free(m->uidx);
     aug_cum_free(&m->cum);
     memset(m, 0, sizeof *m);
 }
 
+double aug_cutmat_f(const aug_cutmat *m, int64_t i)
+{
+    const aug_cum *c = &m->cum;
+    int64_t p = i < c->pcap ? c->pos[i] : -1;
+    return (i < m->n0 ? m->f0[i] : 0.0) + (p >= 0 ? c->dF[p] : 0.0);
+}
+
+/* unit[] for the indices the update u touched (its H and its new DOFs): the
+   only columns of K_t it changed. 0 or -1 (memory). */
+static int unit_update(aug_cutmat *m, const aug_update *u)
+{
+    int64_t n = m->cum.n, n1 = n - u->k, need = m->k0colmax + m->cum.enzmax + 2;
+    if (n > m->unitcap) {
+        int64_t cap = m->unitcap ? m->unitcap : 1024;
+        while (cap < n) cap *= 2;
+        unsigned char *q = aug_realloc(m->unit, (size_t)cap);
+        if (!q) return -1;
+        memset(q + m->unitcap, 0, (size_t)(cap - m->unitcap));
+        m->unit = q;
+        double *w = aug_realloc(m->uscr, (size_t)cap * sizeof *w);
+        if (!w) return -1;
+        memset(w + m->unitcap, 0, (size_t)(cap - m->unitcap) * sizeof *w);
+        m->uscr = w;
+        m->unitcap = cap;
+    }
+    if (need > m->ubufcap) {
+        double *v = aug_realloc(m->uval, (size_t)need * sizeof *v);
+        if (!v) return -1;
+        m->uval = v;
+        int32_t *ix = aug_realloc(m->uidx, (size_t)need * sizeof *ix);
+        if (!ix) return -1;
+        m->uidx = ix;
+        m->ubufcap = need;
+    }
+    for (int64_t t = 0; t < (int64_t)u->m + u->k; t++) {
+        int64_t j = t < u->m ? u->H[t] : n1 + (t - u->m);
+        int64_t nz = aug_cutmat_column(m, j, m->uidx, m->uval, m->uscr);
+        m->unit[j] = nz == 1 && m->uidx[0] == j && m->uval[0] == 1.0;
+    }
+    return 0;
+}
+
 int aug_cutmat_apply(aug_cutmat *m, const aug_update *u, aug_err *e)
 {
-    return aug_cum_apply(&m->cum, u, e);
+    int rc = aug_cum_apply(&m->cum, u, e);
+    if (!rc && unit_update(m, u)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    return rc;
 }
 
 /* y = K_t x = Kbar x - P_S Ebar P_S' x (paper 001 eq. 3.1) */
