@@ -96,12 +96,15 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
 }
 
 /* Records factor writes itself, or that a wholesale new matrix invalidates
-   (formats/stream.md 3.1 rule 3): upstream ones are dropped. */
-/* formats 3.1 rule 3: a new K invalidates every unsafe-to-copy record of the
-   matrix and step phases, and every unknown unsafe-to-copy one */
+   (formats/stream.md 3.1 rule 3): upstream ones are dropped: every
+   unsafe-to-copy record of the matrix and step phases, every unknown
+   unsafe-to-copy one, and pLAN (4.4), whose steps are among those dropped
+   (kept, it promised steps that never come: solve-aug and cut refused the
+   stream of a second factor). */
 static int replaced(const aug_rec *rec)
 {
     const aug_rectype *rt = aug_rectype_find(rec->type);
+    if (!memcmp(rec->type, "pLAN", 4)) return 1;
     if (aug_type_safe_to_copy(rec->type)) return 0;
     return !rt || (rt->phase >= 2 && rt->phase <= 3);
 }

@@ -54,19 +54,19 @@ typedef struct aug_mdomain {
     int have_svd;
     int r;                      /* reduced: rank */
     double *W;                  /* nf x r explicit basis while reduced */
-    double *MW, *KW, *flift, *dinv; /* M W, K W, f - K[F,C] u_C, 1 / diag(A) (the residual monitor) */
+    double *MW, *KW, *flift;    /* reduced: M W, K W, f - K[F,C] u_C (its residual) */
+    double *dinv;               /* 1 / diag(A) over the free DOFs */
+    const double *res;          /* the frame's full-order residual (du reduced, tmp FE; not owned) */
     unsigned char *iface;       /* nf: free DOF on an interface row */
-    double acc, last_res;       /* accumulated error estimate while reduced, its last increment */
-    int monitor;                /* --monitor: the residual monitor runs */
+    double acc, last_res;       /* accumulated error estimate of its reduced frames (whole run), its last increment */
+    int spent;                  /* a stretch ended on the budget: it does not switch again */
     double *Kr, *Mr, *Ar, *fr, *q, *qd, *br, *dq;
-    long budget;                /* reduced frames left (eq. 13's accumulation rule) */
     double err_switch;          /* projection error at the switch */
-    double last_err, last_est, last_ratio, last_drift;
+    double last_err, last_est, last_ratio;
     int moved;                  /* constrained DOFs moved this frame */
     uint64_t version;           /* bumped when A (or the basis) changes */
     int since;                  /* snapshots since the last re-wiring or return to FE */
     int ready, wait;            /* passed the switch tests this frame; frames waited for the others */
-    long ready_budget;
     int switched;               /* this frame: +1 to reduced, -1 to FE, 0 */
     int rebuilt;                /* re-wired this step */
     int hold;                   /* returned to FE by this step (a neighbour re-wired) */
@@ -99,7 +99,6 @@ typedef struct aug_msim_opts {
     int basis;                  /* AUG_BASIS_* (identity: a check of the machinery) */
     int warp;                   /* write warped fields (eqs. 16-17) */
     int after_cut;              /* AUG_AFTER_CUT_*: reduced domains a cut returns to FE */
-    int monitor;                /* the residual monitor of reduced frames ends stretches */
     uint64_t seed;
 } aug_msim_opts;
 void aug_msim_opts_default(aug_msim_opts *o);
@@ -150,9 +149,8 @@ typedef struct aug_msim {
     const aug_mext *ext;        /* NULL: the FE union is always factored */
     int dirty;                  /* coupled system to rebuild */
     int returned;               /* a reduced domain returned to FE this frame */
+    double *rsum, *dsum;        /* per global DOF on an interface: residual and diag(A) summed over the copies */
     uint64_t rng;
-    double *pwork;              /* projection work (n + 2 qcap + rank cap) */
-    int64_t pwcap;
     /* last frame's figures */
     double gap, relres, t_rhs, t_solve, t_adv, t_svd, t_build;
     int iters, converged, rank_c, events, step_events;
@@ -205,11 +203,14 @@ void aug_mdomain_free(aug_mdomain *d, cholmod_common *cm);
    or the basis (reduced): b = h M v0 + gamma h^2 (f - K u0), the prescribed
    motion of constrained DOFs (the targets of its sub-mesh) lifted */
 int aug_mdomain_rhs(aug_mdomain *d, const aug_dynp *p, cholmod_common *cm, aug_err *e);
-/* the state advanced by the solution (du over the free DOFs, or dq) */
+/* the state advanced by the solution (du over the free DOFs, or dq); a
+   reduced domain leaves the full-order residual of its frame in res */
 void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p);
+/* after the advance, an FE domain's residual b - A du over its free DOFs in
+   res (nonzero only where coupling forces act) */
+int aug_mdomain_fe_residual(aug_mdomain *d, cholmod_common *cm, aug_err *e);
 /* FE -> reduced on the current basis (state projected), reduced -> FE */
-int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, long budget, cholmod_common *cm,
-                      aug_err *e);
+int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, cholmod_common *cm, aug_err *e);
 void aug_mdomain_unreduce(aug_mdomain *d);
 /* the value of free index i of domain d now (FE: u; reduced: W q, kept
    expanded in u after every frame) */

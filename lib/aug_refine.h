@@ -127,10 +127,20 @@ typedef struct aug_refine_opt {
     int max_level3;      /* 3-D: bisection levels per step at most */
     int flip;            /* 2-D: Lawson flips after each bisection (Lepp-Delaunay) */
     int min_angle_given; /* mem3: min_angle applies only when given (refine --min-angle) */
-    int64_t max_new;     /* new nodes per step at most (0: 1000 + 100 per element of
-                            the step's region) */
+    int64_t max_new;     /* new nodes per step at most (0: aug_refine_default_cap) */
 } aug_refine_opt;
 void aug_refine_opt_default(aug_refine_opt *o);
+
+/* The default cap on a step's new nodes: 1000 + 100 per element of the region
+   the step changed, at most AUG_UPDT_MAX_ORDER / (2 dim) nodes (half the
+   orders a step's UPDT may have: a larger step is refused by update_build,
+   after the whole refinement; plain bisection, --no-flip, grew a 2-D step by
+   138k nodes so). */
+static inline int64_t aug_refine_default_cap(int64_t region, int dim)
+{
+    int64_t c = 1000 + 100 * region, lim = AUG_UPDT_MAX_ORDER / (2 * dim);
+    return c < lim ? c : lim;
+}
 
 /* Parent policy for new nodes of refinement: the end of the split edge with the
    fewest constraints (FIXD components, then sets and output membership, scored

@@ -6,6 +6,8 @@
 #include <string.h>
 #include "aug_cut.h"
 
+#define SPLIT_TOL_MIN 1e-6
+
 void aug_blade_cut_free(aug_blade_cut *bc)
 {
     aug_soup_free(&bc->soup);
@@ -38,7 +40,12 @@ int aug_blade_cut_init(aug_blade_cut *bc, const aug_mesh *m, int mode, double to
         return aug_err_set(e, AUG_EUSAGE, -1, "", "--mode split needs a tet4 mesh (this one is %s: --mode snap)",
                            aug_etype_name(m->etype));
     bc->mode = mode;
-    bc->tol = tol;
+    /* a split at s within rounding of an end (s = 1 - 1e-16 with --snap-tol
+       0) makes a node on top of that end: an element of no volume, and the
+       new edge crosses again at the same point, so the same place splits
+       without end (sphere3, a flat blade: minutes, growing one node's star).
+       Crossings within 1e-6 of an end snap whatever T is. */
+    bc->tol = fmax(tol, SPLIT_TOL_MIN);
     for (int k = 0; k < 3; k++) bc->lo[k] = INFINITY, bc->hi[k] = -INFINITY;
     for (int64_t i = 0; i < m->nn; i++)
         for (int k = 0; k < 3; k++) {
@@ -262,30 +269,39 @@ static int on_get(const aug_blade_cut *bc, const aug_edit *ed, int32_t q)
     }
 }
 
-/* Face f (3 nodes) between tets a and b lies on the surface: its nodes do,
-   its centroid is within tol times its longest side (+ 1e-9 h) of the
-   surface, and neither tet lies flat on it (a fourth node on the surface). */
+/* the segment p-q crosses a triangle of the surface (aug_seg_tri, the snap
+   mode's test); -1 memory */
+static int seg_crosses(aug_blade_cut *bc, const double *p, const double *q)
+{
+    double lo[3], hi[3], a[3], b[3], t;
+    for (int k = 0; k < 3; k++) lo[k] = fmin(p[k], q[k]), hi[k] = fmax(p[k], q[k]);
+    if (!clip_box(bc, lo, hi, bc->eps, a, b)) return 0;
+    if (aug_boxgrid_query(&bc->tg, a, b, &bc->buf2, &bc->nbuf2, &bc->capbuf2)) return -1;
+    for (int64_t i = 0; i < bc->nbuf2; i++)
+        if (aug_seg_tri(p, q, bc->soup.t + 9 * (int64_t)bc->buf2[i], bc->eps, &t)) return 1;
+    return 0;
+}
+
+/* Face f (3 nodes) between tets a and b lies on the surface: its nodes do
+   (split or snapped onto it), and the segment between the centroids of a
+   and b crosses the surface (the snap mode's side test). A tet whose four
+   nodes are on the surface (flat on it, its nodes snapped within tol) so
+   goes whole to the side of its centroid: its faces towards the other side
+   open, the others stay. Refusing every face of such a tet, and a face
+   whose centroid lay farther from the surface than tol times its longest
+   side (a node snaps within tol times the crossing edge's length, which can
+   be longer), left bridges across a surface through the whole mesh:
+   sphere3 and the liver cut by a flat blade in split mode stayed one piece. */
 static int split_cut(void *ctx, const aug_edit *ed, int32_t a, int32_t b, const int32_t *f, int nf)
 {
     aug_blade_cut *bc = ctx;
     if (nf != 3) return 0;
     for (int k = 0; k < 3; k++)
         if (!on_get(bc, ed, f[k])) return 0;
-    for (int s = 0; s < 2; s++) {
-        const int32_t *c = aug_edit_conn(ed, s ? b : a);
-        for (int k = 0; k < 4; k++)
-            if (c[k] != f[0] && c[k] != f[1] && c[k] != f[2] && on_get(bc, ed, c[k])) return 0;
-    }
-    double x[3] = {0, 0, 0}, l = 0;
-    for (int k = 0; k < 3; k++) {
-        const double *p = aug_edit_x(ed, f[k]), *q = aug_edit_x(ed, f[(k + 1) % 3]);
-        double d = 0;
-        for (int j = 0; j < 3; j++) x[j] += p[j] / 3, d += (p[j] - q[j]) * (p[j] - q[j]);
-        l = fmax(l, sqrt(d));
-    }
-    double lim = bc->tol * l + bc->hon;
-    double d = surf_dist(bc, x, lim);
-    return d >= 0 && d <= lim;
+    double ca[3], cb[3];
+    centroid(ed, a, ca);
+    centroid(ed, b, cb);
+    return seg_crosses(bc, ca, cb) == 1;
 }
 
 /* the tet other than el holding the three nodes f, or -1 */

@@ -228,8 +228,8 @@ static int index_set(ubuild *b)
     if (b->s > AUG_UPDT_MAX_ORDER)
         return aug_err_set(b->e, AUG_EDATA, -1, "UPDT",
                            "step %d: the update changes %lld matrix indices (m %lld, k %lld), above %d: its "
-                           "dense E would take %.3g GB; cut fewer nodes a step, or --detached pin a "
-                           "large piece cut loose",
+                           "dense E would take %.3g GB; cut fewer nodes a step (refine: a smaller "
+                           "--max-new), or --detached pin a large piece cut loose",
                            (int)b->d->step, (long long)b->s, (long long)b->m, (long long)b->k,
                            AUG_UPDT_MAX_ORDER, 8e-9 * (double)b->s * (double)b->s);
     b->E = aug_calloc((size_t)(b->s * b->s) + 1, sizeof *b->E);

@@ -101,6 +101,18 @@ static int submesh(aug_mdomain *d, const aug_mesh *m, const int32_t *owner, int3
     return 0;
 }
 
+/* dinv = 1 / diag(A) over the free DOFs (0 where not positive) */
+static void diag_inv(aug_mdomain *d)
+{
+    const int32_t *Ap = d->A->p, *Ai = d->A->i;
+    const double *Ax = d->A->x;
+    for (int64_t j = 0; j < d->nf; j++) {
+        d->dinv[j] = 0;
+        for (int32_t k = Ap[j]; k < Ap[j + 1]; k++)
+            if (Ai[k] == j) d->dinv[j] = Ax[k] > 0 ? 1 / Ax[k] : 0;
+    }
+}
+
 int aug_mdomain_build(aug_mdomain *d, int id, const aug_mesh *m, const int32_t *edom,
                       const int32_t *owner, const aug_dynp *p, cholmod_common *cm, aug_err *e)
 {
@@ -161,7 +173,9 @@ int aug_mdomain_build(aug_mdomain *d, int id, const aug_mesh *m, const int32_t *
             d->K = aug_sym_restrict(d->Kall, d->map, d->nf, cm);
             d->M = aug_sym_restrict(d->Mall, d->map, d->nf, cm);
             d->A = aug_sym_restrict(d->Aall, d->map, d->nf, cm);
-            if (!d->K || !d->M || !d->A) aug_err_set(e, AUG_ENOMEM, -1, "MODE", "out of memory");
+            d->dinv = malloc((size_t)(d->nf + 1) * sizeof *d->dinv);
+            if (!d->K || !d->M || !d->A || !d->dinv) aug_err_set(e, AUG_ENOMEM, -1, "MODE", "out of memory");
+            else diag_inv(d);
         }
     }
     free(ident);
@@ -236,42 +250,43 @@ static void expand(aug_mdomain *d)
     for (int64_t i = 0; i < n; i++) d->u[d->free_dof[i]] = d->tmp[i], d->v[d->free_dof[i]] = d->tmp2[i];
 }
 
-/* The a-posteriori error of a reduced frame: the full-order residual of the
-   integrator at the reduced increment, res = b - A W dq over the free DOFs
-   off the interfaces (where the coupling forces act),
+/* The full-order residual of the integrator at a reduced frame's increment,
+   res = b - A W dq over the free DOFs (b at the frame's start state),
      res = M W (h q' - cM dq) - K W (gamma h^2 q + cK dq) + gamma h^2 (f - K[F,C] u_C),
-   O(n r) with M W and K W kept from the switch; the error it causes in u is
-   A^-1 res, estimated by the Jacobi step diag(A)^-1 res (close where A is
-   mass-dominated; an under-estimate where stiffness dominates and the
-   residual is smooth: measured 2-3x on the 3-layer sphere), and
-   accumulated relative to ||u|| over the whole run (an error made in a reduced
-   stretch stays in the state after it): the accumulated error of paper 004
-   sec. 4.2 computed instead of assumed linear. */
-static void monitor(aug_mdomain *d, const aug_dynp *p)
+   O(n r) with M W and K W kept from the switch; in du (unused while
+   reduced), before q advances. */
+static void residual(aug_mdomain *d, const aug_dynp *p)
 {
     int64_t n = d->nf;
     int r = d->r;
     double h = p->h, gh2 = aug_dynp_gamma(p) * h * h;
-    double *a = d->tmp, *b = d->tmp2; /* r each, then the residual in tmp (n) */
+    double *a = d->tmp, *b = d->tmp2;
     for (int i = 0; i < r; i++) a[i] = h * d->qd[i] - p->cM * d->dq[i], b[i] = -(gh2 * d->q[i] + p->cK * d->dq[i]);
-    double *res = d->du; /* unused while reduced */
+    double *res = d->du;
     for (int64_t i = 0; i < n; i++) res[i] = gh2 * d->flift[i];
     cblas_dgemv(CblasColMajor, CblasNoTrans, (int)n, r, 1.0, d->MW, (int)n, a, 1, 1.0, res, 1);
     cblas_dgemv(CblasColMajor, CblasNoTrans, (int)n, r, 1.0, d->KW, (int)n, b, 1, 1.0, res, 1);
-    double e2 = 0, u2 = 0;
-    for (int64_t i = 0; i < n; i++) {
-        double x = d->iface && d->iface[i] ? 0 : res[i] * d->dinv[i], u = d->u[d->free_dof[i]];
-        e2 += x * x, u2 += u * u;
-    }
-    d->last_res = u2 > 0 ? sqrt(e2 / u2) : 0;
-    d->acc += d->last_res;
+    d->res = res;
+}
+
+int aug_mdomain_fe_residual(aug_mdomain *d, cholmod_common *cm, aug_err *e)
+{
+    aug_err_clear(e);
+    if (d->mode != AUG_MD_FE) return 0;
+    d->res = NULL;
+    if (d->nf == 0) return 0;
+    if (aug_sym_mult(d->A, d->du, d->tmp, cm))
+        return aug_err_set(e, AUG_ENOMEM, -1, "MODE", "sparse product failed (CHOLMOD status %d)", cm->status);
+    for (int64_t i = 0; i < d->nf; i++) d->tmp[i] = d->b[i] - d->tmp[i];
+    d->res = d->tmp;
+    return 0;
 }
 
 void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p)
 {
     if (d->mode == AUG_MD_RED) {
         int r = d->r;
-        if (d->monitor) monitor(d, p);
+        residual(d, p);
         for (int i = 0; i < r; i++) d->q[i] += d->dq[i];
         double *qd1 = d->tmp;
         aug_dynp_velocity(p, d->dq, d->qd, qd1, r);
@@ -294,9 +309,8 @@ void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p)
 /* Paper 004 eq. 3 with the split after eq. 8: W = U0 after the deferred
    rotation (eq. 9), K_r = G_K and M_r = G_M (kept along the snapshots, not
    recomputed), f_r = W'(f - K[F,C] u_C); the state projected, q = W'u_F,
-   q' = W'v_F; it stays reduced for `budget` frames. */
-int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, long budget, cholmod_common *cm,
-                      aug_err *e)
+   q' = W'v_F. */
+int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, cholmod_common *cm, aug_err *e)
 {
     aug_err_clear(e);
     if (!d->have_svd || d->svd.r < 1) return aug_err_set(e, AUG_EUSAGE, -1, "MODE", "domain %d: no basis", d->id);
@@ -305,17 +319,16 @@ int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, long budget, cholmod_c
     int r = d->svd.r;
     int64_t n = d->nf;
     free(d->W), free(d->Kr), free(d->Mr), free(d->Ar), free(d->fr), free(d->q), free(d->qd);
-    free(d->br), free(d->dq), free(d->MW), free(d->KW), free(d->flift), free(d->dinv);
+    free(d->br), free(d->dq), free(d->MW), free(d->KW), free(d->flift);
     d->W = malloc((size_t)n * r * sizeof *d->W);
     d->MW = malloc((size_t)n * r * sizeof *d->MW);
     d->KW = malloc((size_t)n * r * sizeof *d->KW);
     d->flift = malloc((size_t)(n + 1) * sizeof *d->flift);
-    d->dinv = malloc((size_t)(n + 1) * sizeof *d->dinv);
     d->Kr = malloc((size_t)r * r * sizeof *d->Kr);
     d->Mr = malloc((size_t)r * r * sizeof *d->Mr);
     d->Ar = malloc((size_t)r * r * sizeof *d->Ar);
     double **v[] = {&d->fr, &d->q, &d->qd, &d->br, &d->dq};
-    int bad = !d->W || !d->Kr || !d->Mr || !d->Ar || !d->MW || !d->KW || !d->flift || !d->dinv;
+    int bad = !d->W || !d->Kr || !d->Mr || !d->Ar || !d->MW || !d->KW || !d->flift;
     for (int i = 0; i < 5; i++) bad |= !(*v[i] = calloc((size_t)r, sizeof(double)));
     if (bad) return NOMEM(e);
     d->r = r;
@@ -331,25 +344,17 @@ int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, long budget, cholmod_c
         return aug_err_set(e, AUG_ENOMEM, -1, "MODE", "sparse product failed");
     for (int64_t i = 0; i < n; i++) d->flift[i] = d->fext[d->free_dof[i]] - d->tmp2[d->free_dof[i]];
     cblas_dgemv(CblasColMajor, CblasTrans, (int)n, r, 1.0, d->W, (int)n, d->flift, 1, 0.0, d->fr, 1);
-    /* the residual monitor's M W, K W (r sparse products each) and 1 / diag(A) */
+    /* M W, K W for the residual of the reduced frames (r sparse products each) */
     cholmod_dense Wd = {(size_t)n, (size_t)r, (size_t)n * r, (size_t)n, d->W, NULL, CHOLMOD_REAL, CHOLMOD_DOUBLE};
     cholmod_dense MWd = Wd, KWd = Wd;
     MWd.x = d->MW, KWd.x = d->KW;
     double one[2] = {1, 0}, zero[2] = {0, 0};
     if (!cholmod_sdmult(d->M, 0, one, zero, &Wd, &MWd, cm) || !cholmod_sdmult(d->K, 0, one, zero, &Wd, &KWd, cm))
         return aug_err_set(e, AUG_ENOMEM, -1, "MODE", "sparse product failed");
-    const int32_t *Ap = d->A->p, *Ai = d->A->i;
-    const double *Ax = d->A->x;
-    for (int64_t j = 0; j < n; j++) {
-        d->dinv[j] = 0;
-        for (int32_t k = Ap[j]; k < Ap[j + 1]; k++)
-            if (Ai[k] == j) d->dinv[j] = Ax[k] > 0 ? 1 / Ax[k] : 0;
-    }
     for (int64_t i = 0; i < n; i++) d->tmp[i] = d->u[d->free_dof[i]], d->tmp2[i] = d->v[d->free_dof[i]];
     cblas_dgemv(CblasColMajor, CblasTrans, (int)n, r, 1.0, d->W, (int)n, d->tmp, 1, 0.0, d->q, 1);
     cblas_dgemv(CblasColMajor, CblasTrans, (int)n, r, 1.0, d->W, (int)n, d->tmp2, 1, 0.0, d->qd, 1);
     expand(d);
-    d->budget = budget;
     d->mode = AUG_MD_RED;
     d->version++;
     d->switched = 1;

@@ -428,7 +428,7 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
     double thmin = r->opt.min_angle_given ? r->opt.min_angle : 0;
     /* a triangle with an angle th has l_max / l_min >= 1 / (2 sin(th/2)) */
     double thasp = r->opt.max_aspect > 0.5 ? 2 * asin(1 / (2 * r->opt.max_aspect)) * 180 / M_PI : 0;
-    int64_t budget = r->opt.max_new > 0 ? r->opt.max_new : 1000 + 100 * (d->nmod + d->nadd), nodes0 = ed.nnew;
+    int64_t budget = r->opt.max_new > 0 ? r->opt.max_new : aug_refine_default_cap(d->nmod + d->nadd, 3), nodes0 = ed.nnew;
     for (int64_t k = 0; k < nw; k++) {
         int lng;
         int64_t t = work[k];

@@ -331,7 +331,7 @@ int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *bc, c
     aug_bisect_stats bs;
     W->keep = r->last;
     W->nkeep = r->nlast;
-    W->max_new = r->opt.max_new > 0 ? r->opt.max_new : 1000 + 100 * (q->region > 0 ? q->region : d->nmod);
+    W->max_new = r->opt.max_new > 0 ? r->opt.max_new : aug_refine_default_cap(q->region > 0 ? q->region : d->nmod, dim);
     rc = dim == 2 ? aug_bisect2d(W, seeds, ns, &r->opt, &pr, &bs, e)
                   : aug_bisect3d(W, seeds, ns, &r->opt, &pr, &bs, e);
     free(seeds);
