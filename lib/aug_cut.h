@@ -585,6 +585,8 @@ typedef struct aug_blade_cut {
     unsigned char *on;           /* split: node lies on the surface (capon nodes) */
     int64_t capon;
     int64_t nface;               /* faces cut so far */
+    int oom;                     /* split: a face test ran out of memory (the
+                                    aug_separate_node callback cannot say so) */
     int32_t *buf, *buf2;         /* query workspaces */
     int64_t nbuf, capbuf, nbuf2, capbuf2;
 } aug_blade_cut;

@@ -301,7 +301,9 @@ static int split_cut(void *ctx, const aug_edit *ed, int32_t a, int32_t b, const 
     double ca[3], cb[3];
     centroid(ed, a, ca);
     centroid(ed, b, cb);
-    return seg_crosses(bc, ca, cb) == 1;
+    int rc = seg_crosses(bc, ca, cb);
+    if (rc < 0) bc->oom = 1; /* reported by split_step: not a face left whole */
+    return rc == 1;
 }
 
 /* the tet other than el holding the three nodes f, or -1 */
@@ -541,7 +543,9 @@ static int split_step(aug_blade_cut *bc, aug_edit *ed, int64_t first, segs *sg, 
             bc->nface++;
         }
     }
+    bc->oom = 0;
     int rc = separate_all(ed, nodes, nnodes, split_cut, bc, e);
+    if (!rc && bc->oom) rc = aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
     if (rc) {
         free(w.q);
         free(w.in);
