@@ -269,17 +269,29 @@ static int on_get(const aug_blade_cut *bc, const aug_edit *ed, int32_t q)
     }
 }
 
+/* The first triangle of the surface that segment p-q crosses (aug_seg_tri
+   with tolerance tol, also the margin of the box clip) at a parameter t with
+   t_lo < t < t_hi: 1 and *t, 0 none, -1 memory. Split's edge test and its
+   face test (seg_crosses) both query the triangle grid through it. */
+static int seg_first(aug_blade_cut *bc, const double *p, const double *q, double tol, double t_lo,
+                     double t_hi, double *t)
+{
+    double lo[3], hi[3], a[3], b[3];
+    for (int k = 0; k < 3; k++) lo[k] = fmin(p[k], q[k]), hi[k] = fmax(p[k], q[k]);
+    if (!clip_box(bc, lo, hi, tol, a, b)) return 0;
+    if (aug_boxgrid_query(&bc->tg, a, b, &bc->buf2, &bc->nbuf2, &bc->capbuf2)) return -1;
+    for (int64_t i = 0; i < bc->nbuf2; i++)
+        if (aug_seg_tri(p, q, bc->soup.t + 9 * (int64_t)bc->buf2[i], tol, t) && *t > t_lo && *t < t_hi)
+            return 1;
+    return 0;
+}
+
 /* the segment p-q crosses a triangle of the surface (aug_seg_tri, the snap
    mode's test); -1 memory */
 static int seg_crosses(aug_blade_cut *bc, const double *p, const double *q)
 {
-    double lo[3], hi[3], a[3], b[3], t;
-    for (int k = 0; k < 3; k++) lo[k] = fmin(p[k], q[k]), hi[k] = fmax(p[k], q[k]);
-    if (!clip_box(bc, lo, hi, bc->eps, a, b)) return 0;
-    if (aug_boxgrid_query(&bc->tg, a, b, &bc->buf2, &bc->nbuf2, &bc->capbuf2)) return -1;
-    for (int64_t i = 0; i < bc->nbuf2; i++)
-        if (aug_seg_tri(p, q, bc->soup.t + 9 * (int64_t)bc->buf2[i], bc->eps, &t)) return 1;
-    return 0;
+    double t;
+    return seg_first(bc, p, q, bc->eps, -INFINITY, INFINITY, &t);
 }
 
 /* Face f (3 nodes) between tets a and b lies on the surface: its nodes do
@@ -392,19 +404,10 @@ static int edge_cross(aug_blade_cut *bc, const aug_edit *ed, aug_edgemap *miss, 
         *pb = t;
     }
     int32_t a = *pa, b = *pb;
-    const double *xa = aug_edit_x(ed, a), *xb = aug_edit_x(ed, b);
-    double lo[3], hi[3], p[3], q[3];
-    for (int k = 0; k < 3; k++) lo[k] = fmin(xa[k], xb[k]), hi[k] = fmax(xa[k], xb[k]);
-    if (clip_box(bc, lo, hi, bc->hon, p, q)) {
-        if (aug_boxgrid_query(&bc->tg, p, q, &bc->buf2, &bc->nbuf2, &bc->capbuf2)) return -1;
-        for (int64_t i = 0; i < bc->nbuf2; i++) {
-            double t;
-            if (!aug_seg_tri(xa, xb, bc->soup.t + 9 * (int64_t)bc->buf2[i], bc->hon, &t)) continue;
-            if ((bc->on[a] && t <= bc->tol) || (bc->on[b] && t >= 1 - bc->tol)) continue;
-            *s = t;
-            return 1;
-        }
-    }
+    /* a crossing within tol of an end already on the surface is that end */
+    int rc = seg_first(bc, aug_edit_x(ed, a), aug_edit_x(ed, b), bc->hon, bc->on[a] ? bc->tol : -INFINITY,
+                       bc->on[b] ? 1 - bc->tol : INFINITY, s);
+    if (rc) return rc;
     return aug_edgemap_put(miss, a, b) ? 0 : -1;
 }
 
