@@ -37,6 +37,8 @@ typedef struct aug_cum {
     int64_t enzmax;      /* entries of the longest column */
     double *dF;          /* f_t - [f_b; 0] on S */
     int64_t *mod;        /* mod[p]: value of napply when Ebar(:, p) last changed */
+    unsigned char *keep; /* keep[p]: K_t's unit row at p is not the base's
+                            methods' (an update's keep, solver.c keep_blocks) */
     int64_t napply;      /* number of updates composed */
 } aug_cum;
 
@@ -228,6 +230,9 @@ typedef struct aug_memo {
     double *G;           /* m x m symmetric, column-major, leading dim mcap
                             (aug_sq_grow) */
     int use_cholmod;     /* 1: V by cholmod_solve2 with Bset (for comparison) */
+    int all;             /* 1: a column for every base DOF of S (the field's
+                            memo way needs them); 0: only for those whose
+                            column of Ebar is nonzero (amps_reach.c) */
     int64_t reach_new;   /* sum of path lengths computed in the last grow */
     int64_t m_new;
 } aug_memo;
@@ -306,6 +311,8 @@ typedef struct aug_amps {
     int64_t closure_v;   /* |union of V paths| (closure of H in L) */
     int32_t *ca;         /* closure of A's base DOFs in L' (permuted, ascending) */
     double *t2;          /* n_b-sized scratch */
+    double *zlo;         /* n_b-sized, zero between uses (lo_times) */
+    int32_t *lset;       /* n_b-sized: lo_times's closure */
     cholmod_dense *X, *Yw, *Ew; /* cholmod_solve2 workspaces (supernodal path) */
     /* the correction on H (amps_solve.c, correct_on_h): set kt to K_t */
     const aug_cutmat *kt; /* K_t (NULL: no correction) */
@@ -323,7 +330,7 @@ typedef struct aug_amps {
        solve of H w over the closure of H in L (hcl), 1 by the memo's V w */
     int field_memo;
     int32_t *hcl;        /* closure of H in L (permuted, ascending), nhcl long */
-    int64_t nhcl, hcl_m; /* ... for the memo's first hcl_m columns */
+    int64_t nhcl, hcl_m; /* ... for the first hcl_m positions of S */
     const void *hcl_b;   /* ... of this base */
     int pivot;           /* AUG_PIVOT_S2, _ALT (eqs. 3.16-3.17) or _AUTO */
     int pivot_used;      /* the last step's: S2 or ALT */

@@ -50,6 +50,9 @@ typedef struct aug_update {
        effective matrix A (aug_dyn.h), and EK, EM those of K and M on the same
        Hbar in the same form (new-new blocks -K_t, -M_t); NULL in statics */
     double *EK, *EM;
+    /* in memory only (solver.c, keep_blocks): keep[i] = 1 when the update
+       keeps the block of H[i] that K_t replaces by a unit row; NULL: none */
+    unsigned char *keep;
 } aug_update;
 
 /* Constraints and loads changed by one step (BDLT, formats/stream.md 7.7). */

@@ -23,6 +23,7 @@ void aug_update_free(aug_update *u)
     free(u->df);
     free(u->EK);
     free(u->EM);
+    free(u->keep);
     aug_update_init(u);
 }
 

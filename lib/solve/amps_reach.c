@@ -15,9 +15,9 @@ void aug_memo_free(aug_memo *M)
     free(M->col);
     free(M->cpos);
     aug_map_free(M->G, (size_t)M->mcap * (size_t)M->mcap * sizeof *M->G);
-    int uc = M->use_cholmod;
+    int uc = M->use_cholmod, all = M->all;
     memset(M, 0, sizeof *M);
-    M->use_cholmod = uc;
+    M->use_cholmod = uc, M->all = all;
 }
 
 static int grow_cols(aug_memo *M, int64_t need)
@@ -102,8 +102,22 @@ fail:
     return -1;
 }
 
+/* a memo column for position p of S: a base DOF not yet in it whose column
+   of Ebar is nonzero (or every base DOF, M->all). The others change only
+   the load (dF): S2 and the field reach them by one forward solve of their
+   loads a step (amps_solve.c, lo_times), not by columns of V and G, which
+   would cost their paths and their |S| products in G on every later step. */
+static int wants(const aug_memo *M, const aug_cum *c, int64_t p)
+{
+    if (c->S[p] >= c->nb || M->cpos[p] >= 0) return 0;
+    if (M->all) return 1;
+    for (int32_t t = 0; t < c->E[p].nz; t++)
+        if (c->E[p].x[t] != 0) return 1;
+    return 0;
+}
+
 /* V(:, new) = L^-1 P H_dt (paper 001 eqs. 3.23-3.24, table 1 step 1): a column for
-   each base DOF of S not yet in the memo, over its etree path (aug_ldl_path), by
+   each base DOF of S not yet in the memo that wants one, over its etree path (aug_ldl_path), by
    path_solve, cholmod_column (use_cholmod), or 32 at a time through the supernodes
    (aug_ldl_paths_solve_super) when the base has Ls; vt marks each path's dense tail */
 int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_common *cm,
@@ -119,7 +133,7 @@ int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_com
         M->pcap = c->pcap;
     }
     int64_t need = M->m;
-    for (int64_t p = 0; p < c->ns; p++) need += c->S[p] < c->nb && M->cpos[p] < 0;
+    for (int64_t p = 0; p < c->ns; p++) need += wants(M, c, p);
     if (need == M->m) return 0;
     if (grow_cols(M, need)) goto nomem;
     int32_t *path = aug_malloc((size_t)b->n * sizeof *path);
@@ -145,7 +159,7 @@ int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_com
     int ng = 0, grouped = b->Ls && !M->use_cholmod;
     for (int64_t p = 0; p <= c->ns && !rc; p++) {
         int last = p == c->ns;
-        if (!last && (c->S[p] >= c->nb || M->cpos[p] >= 0)) continue;
+        if (!last && !wants(M, c, p)) continue;
         if (grouped && ng > 0 && (last || ng == GROUP)) {
             for (int q = 0; q < ng; q++) gpath[q] = M->vi + goff[q], gout[q] = M->vx + goff[q];
             if (aug_ldl_paths_solve_super(b, ng, gp, gpath, glen, gout))

@@ -89,6 +89,8 @@ void aug_amps_free(aug_amps *a)
     free(a->mark);
     free(a->ca);
     free(a->t2);
+    free(a->zlo);
+    free(a->lset);
     hcorr_free(a->hc);
     free(a->hcl);
     memset(a, 0, sizeof *a);
@@ -108,13 +110,15 @@ static int scratch(aug_amps *a, const aug_base *b, const aug_cum *c)
         if (!a->xcap) return -1;
     }
     if (a->wcap < b->n + 1) {
-        free(a->y), free(a->q), free(a->mark), free(a->ca), free(a->t2);
+        free(a->y), free(a->q), free(a->mark), free(a->ca), free(a->t2), free(a->zlo), free(a->lset);
         a->y = aug_malloc((size_t)(b->n + 1) * sizeof *a->y);
         a->q = aug_malloc((size_t)(b->n + 1) * sizeof *a->q);
         a->mark = aug_calloc((size_t)(b->n + 1), 1);
         a->ca = aug_malloc((size_t)(b->n + 1) * sizeof *a->ca);
         a->t2 = aug_malloc((size_t)(b->n + 1) * sizeof *a->t2);
-        a->wcap = a->y && a->q && a->mark && a->ca && a->t2 ? b->n + 1 : 0;
+        a->zlo = aug_calloc((size_t)(b->n + 1), sizeof *a->zlo);
+        a->lset = aug_malloc((size_t)(b->n + 1) * sizeof *a->lset);
+        a->wcap = a->y && a->q && a->mark && a->ca && a->t2 && a->zlo && a->lset ? b->n + 1 : 0;
         if (!a->wcap) return -1;
     }
     return 0;
@@ -133,19 +137,59 @@ static void ebar_times(const aug_amps *a, const aug_cum *c, const double *x, dou
     }
 }
 
-/* hcl = closure of H in L' for the memo's columns (the union of their V
-   paths, paper 000 thm 3), kept while the memo and the base stay */
-static int h_closure(aug_amps *a, const aug_base *b)
+/* hcl = closure of H in L' for the base DOFs of S (the union of their etree
+   paths, paper 000 thm 3: of the memo's V columns and of the positions that
+   change only the load), kept while S and the base stay */
+static int h_closure(aug_amps *a, const aug_base *b, const aug_cum *c)
 {
-    const aug_memo *M = &a->memo;
-    if (a->hcl && a->hcl_b == (const void *)b && a->hcl_m == M->m) return 0;
+    if (a->hcl && a->hcl_b == (const void *)b && a->hcl_m == c->ns) return 0;
     free(a->hcl);
     a->hcl = aug_malloc((size_t)(2 * b->n + 2) * sizeof *a->hcl);
     if (!a->hcl) return -1;
     int32_t *start = a->hcl + b->n + 1;
-    for (int64_t j = 0; j < M->m; j++) start[j] = M->vi[M->vp[j]];
-    a->nhcl = aug_ldl_closure(b, start, M->m, a->hcl, a->mark);
-    a->hcl_b = b, a->hcl_m = M->m;
+    int64_t k = 0;
+    for (int64_t p = 0; p < c->ns; p++)
+        if (c->S[p] < c->nb) start[k++] = b->pinv[c->S[p]];
+    a->nhcl = aug_ldl_closure(b, start, k, a->hcl, a->mark);
+    a->hcl_b = b, a->hcl_m = c->ns;
+    return 0;
+}
+
+/* out[aq] += (H'Kbar^-1 P_lo w)_aq on the base positions of A (paper 001
+   eq. 3.21's H'K^-1H dF_H, and the correction's H'K^-1H r), where lo are
+   the base positions of S without a memo column (their Ebar column is zero:
+   loads only, amps_reach.c wants): V(:, p)' D^-1 (L^-1 P w_lo), one forward
+   solve of w_lo over the closure of lo in L (paper 000 thm 3) and a dot
+   product along each column's path, where G would need a V column and a row
+   of G per position (bunny of bench/organs.sh, 8-node steps: a 514-node
+   piece dropped at once is 1,542 positions, a memo of 381 ms on that step
+   and 16-36 ms on each later one). In exact arithmetic it is what G's
+   columns of those positions would add. 0, or -1 (no workspace). */
+static int lo_times(aug_amps *a, const aug_base *b, const aug_cum *c, const double *w, double *out)
+{
+    const aug_memo *M = &a->memo;
+    const aug_schur *s = &a->schur;
+    if (!a->zlo || !a->lset) return -1;
+    int32_t *start = a->ca; /* n_b-sized scratch, free here */
+    int64_t k = 0;
+    for (int64_t p = 0; p < c->ns; p++)
+        if (c->S[p] < c->nb && M->cpos[p] < 0 && w[p] != 0) start[k++] = b->pinv[c->S[p]];
+    if (k == 0) return 0;
+    int64_t nl = aug_ldl_closure(b, start, k, a->lset, a->mark);
+    double *z = a->zlo;
+    for (int64_t p = 0; p < c->ns; p++)
+        if (c->S[p] < c->nb && M->cpos[p] < 0) z[b->pinv[c->S[p]]] += w[p];
+    aug_ldl_lsolve_closure_super(b, a->lset, nl, z, a->t2);
+    aug_ldl_dsolve(b, a->lset, nl, z);
+    for (int64_t aq = 0; aq < s->na; aq++) {
+        int32_t p = s->A[aq];
+        if (c->S[p] >= c->nb) continue;
+        int64_t j = M->cpos[p];
+        double v = 0;
+        for (int64_t t = M->vp[j]; t < M->vp[j + 1]; t++) v += M->vx[t] * z[M->vi[t]];
+        out[aq] += v;
+    }
+    for (int64_t t = 0; t < nl; t++) z[a->lset[t]] = 0;
     return 0;
 }
 
@@ -189,8 +233,8 @@ static void pivot_solve(aug_amps *a, const aug_cum *c, double *x, const double *
    added where they lie, the consecutive tail of a column (the top of the
    tree) as a dense axpy. tmp: n_b-sized workspace. -1: out of memory (the
    closure of H). */
-static int v_times(aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
-                   int64_t k, double *y, double *tmp)
+static int v_times(aug_amps *a, const aug_base *b, const aug_cum *c, const double *wp,
+                   const int32_t *set, int64_t k, double *y, double *tmp)
 {
     const aug_memo *M = &a->memo;
     if (set)
@@ -198,9 +242,10 @@ static int v_times(aug_amps *a, const aug_base *b, const double *wp, const int32
     else
         memset(y, 0, (size_t)b->n * sizeof *y);
     if (!a->field_memo) {
-        if (h_closure(a, b)) return -1;
+        if (h_closure(a, b, c)) return -1;
         for (int64_t t = 0; t < a->nhcl; t++) y[a->hcl[t]] = 0;
-        for (int64_t j = 0; j < M->m; j++) y[M->vi[M->vp[j]]] += wp[M->col[j]];
+        for (int64_t p = 0; p < c->ns; p++)
+            if (c->S[p] < c->nb) y[b->pinv[c->S[p]]] += wp[p];
         aug_ldl_lsolve_closure_super(b, a->hcl, a->nhcl, y, tmp);
         aug_ldl_dsolve(b, set, set ? k : 0, y);
         return 0;
@@ -224,21 +269,21 @@ static int v_times(aug_amps *a, const aug_base *b, const double *wp, const int32
 /* x (permuted, n_b) := the base part of [a_b; 0] + Kbar^-1 P_S wp on the
    set set[0..k) closed in L': y = D^-1 V wp (v_times), then L^-T over the set
    only (paper 000 thm 2: a closed set's values need nothing outside it) */
-static int closure_field(aug_amps *a, const aug_base *b, const double *wp, const int32_t *set,
-                         int64_t k, double *y)
+static int closure_field(aug_amps *a, const aug_base *b, const aug_cum *c, const double *wp,
+                         const int32_t *set, int64_t k, double *y)
 {
-    if (v_times(a, b, wp, set, k, y, a->t2)) return -1;
+    if (v_times(a, b, c, wp, set, k, y, a->t2)) return -1;
     aug_ldl_ltsolve_closure_super(b, set, k, y, a->t2);
     return 0;
 }
 
 /* closure_field over the set Q[0..nq), or over all of L when Q is NULL
    (through the supernodes, X/Yw/Ew kept in a); 0 or -1 */
-static int field(aug_amps *a, const aug_base *b, const double *wp, const int32_t *Q, int64_t nq,
-                 double *y, cholmod_common *cm)
+static int field(aug_amps *a, const aug_base *b, const aug_cum *c, const double *wp,
+                 const int32_t *Q, int64_t nq, double *y, cholmod_common *cm)
 {
-    if (Q) return closure_field(a, b, wp, Q, nq, y);
-    if (v_times(a, b, wp, NULL, 0, y, a->t2)) return -1;
+    if (Q) return closure_field(a, b, c, wp, Q, nq, y);
+    if (v_times(a, b, c, wp, NULL, 0, y, a->t2)) return -1;
     int rc = aug_par_ltsolve_all(a->par, b, y); /* two cores when a->par is set */
     return rc <= 0 ? rc : aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm);
 }
@@ -318,7 +363,9 @@ static void unit_rows(const aug_amps *a, const aug_cum *c, const int32_t *set, i
         n = c->ns;
     for (int64_t t = 0; t < n; t++) {
         int64_t i = set ? set[t] : c->S[t];
-        if (i < c->nb && aug_cutmat_unit(kt, i)) x[i] = rhs ? rhs[i] : aug_cutmat_f(kt, i);
+        int64_t p = i < c->pcap ? c->pos[i] : -1;
+        if ((i < c->nb || (p >= 0 && c->keep[p])) && aug_cutmat_unit(kt, i))
+            x[i] = rhs ? rhs[i] : aug_cutmat_f(kt, i);
     }
 }
 
@@ -418,7 +465,7 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     /* the deferred L^-T of the full field: C = the closure of the
        pattern's base DOFs and of H (the forward solve's support) */
     int defer = corr && !out && !a->field_memo && b->Ls;
-    if (defer && h_closure(a, b)) return -1;
+    if (defer && h_closure(a, b, c)) return -1;
     if (defer) {
         nc = closure2(b, c->nb, h->pat, np, NULL, 0, h->cset, a->mark);
         for (int64_t t = 0; t < nc; t++) a->mark[h->cset[t]] = 1;
@@ -432,10 +479,10 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     }
     a->t_correct += now_ms() - tc;
     if (defer) {
-        if (v_times(a, b, wp, NULL, 0, h->yf, a->t2)) return -1;
+        if (v_times(a, b, c, wp, NULL, 0, h->yf, a->t2)) return -1;
         for (int64_t t = 0; t < nc; t++) y[h->cset[t]] = h->yf[h->cset[t]];
         aug_ldl_ltsolve_closure_super(b, h->cset, nc, y, a->t2);
-    } else if (field(a, b, wp, Q, a->nq, y, cm))
+    } else if (field(a, b, c, wp, Q, a->nq, y, cm))
         return -2;
     if (!corr) return 0; /* (the refinement gate reads cancel only with a correction) */
     tc = now_ms();
@@ -458,6 +505,12 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
             }
         }
         aug_cutmat_rows_residual(a->kt, c->S, ns, h->xt, h->r, h->ka);
+        /* a kept block (solver.c keep_blocks): K_t's unit row there is not
+           the row the base's methods solve, whose solution there is 0 =
+           f_t, taken exactly (unit_rows); its residual against the unit
+           row would ask a sweep for what that row cannot give */
+        for (int64_t p = 0; p < ns; p++)
+            if (c->keep[p]) h->r[p] = 0, h->ka[p] = 0;
         double rmax = 0, kmax = 0, berr;
         for (int64_t p = 0; p < ns; p++) {
             if (fabs(h->r[p]) > rmax) rmax = fabs(h->r[p]);
@@ -498,18 +551,22 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
             for (int64_t j = 0; j < M->m; j++) v += Gp[j] * h->r[M->col[j]];
             h->rh[aq] = v;
         }
+        if (lo_times(a, b, c, h->r, h->rh)) {
+            rc = -1;
+            break;
+        }
         pivot_solve(a, c, h->rh, h->r, h->ew); /* ew = r + Ebar dz */
         for (int64_t aq = 0; aq < na; aq++) x[aq] += h->rh[aq];
         for (int64_t p = 0; p < ns; p++) dw[p] += h->ew[p];
         /* the increment's field over Q (deferred: over C), on the pattern added to xt */
         if (defer) {
-            if (v_times(a, b, h->ew, NULL, 0, h->ydf, a->t2)) {
+            if (v_times(a, b, c, h->ew, NULL, 0, h->ydf, a->t2)) {
                 rc = -1;
                 break;
             }
             for (int64_t t = 0; t < nc; t++) yd[h->cset[t]] = h->ydf[h->cset[t]];
             aug_ldl_ltsolve_closure_super(b, h->cset, nc, yd, a->t2);
-        } else if (field(a, b, h->ew, Q, a->nq, yd, cm)) {
+        } else if (field(a, b, c, h->ew, Q, a->nq, yd, cm)) {
             rc = -2;
             break;
         }
@@ -549,6 +606,7 @@ int aug_amps_prepare(aug_amps *a, const aug_base *b, const aug_cum *c, double rc
     double t0 = now_ms();
     a->pivot_used = pivot_choice(a);
     if (scratch(a, b, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    a->memo.all = a->field_memo; /* its V w needs every column */
     int rc = aug_memo_reach(&a->memo, b, c, cm, e);
     double t1 = now_ms();
     if (!rc) rc = aug_memo_grow(&a->memo, b, e);
@@ -593,6 +651,7 @@ int aug_amps_field(aug_amps *a, const aug_base *b, const aug_cum *c, const int32
         for (int64_t j = 0; j < M->m; j++) v += Gp[j] * c->dF[M->col[j]];
         x[aq] = v;
     }
+    if (lo_times(a, b, c, c->dF, x)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     /* a2 = S2^-1 rhs (or eqs. 3.16-3.17's pivot), wp = dF + Ebar a2;
        eq. 3.20: a = a_b + K^-1 H wp off A */
     pivot_solve(a, c, x, c->dF, wp);
@@ -612,9 +671,9 @@ int aug_amps_field(aug_amps *a, const aug_base *b, const aug_cum *c, const int32
         if (i < c->nb) u[i] = b->a[i] + y[b->pinv[i]];
         else if (!s->act[p]) u[i] = c->dF[p] + dw[p];
     }
-    unit_rows(a, c, out, nout, NULL, u);
     for (int64_t aq = 0; aq < s->na; aq++)
         if (c->S[s->A[aq]] >= c->nb) u[c->S[s->A[aq]]] = x[aq];
+    unit_rows(a, c, out, nout, NULL, u);
     a->closure_v = 0;
     for (int64_t j = 0; j < M->m; j++)
         if (M->vp[j + 1] > M->vp[j]) {
@@ -672,7 +731,7 @@ int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
     }
     /* a2 = S2^-1 Hbar'Kbar^-1 r; x = Kbar^-1 (r + Hbar Ebar a2) */
     pivot_solve(a, c, xa, NULL, wp);
-    if (v_times(a, b, wp, NULL, 0, y, x)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    if (v_times(a, b, c, wp, NULL, 0, y, x)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     for (int64_t t = 0; t < b->n; t++) y[t] += z[t];
     int prc = aug_par_ltsolve_all(a->par, b, y);
     if (prc < 0 || (prc > 0 && aug_ldl_ltsolve_all(b, y, &a->X, &a->Yw, &a->Ew, cm)))

@@ -242,6 +242,10 @@ int aug_bg_push(aug_bg *bg, const aug_update *u, aug_err *e)
     memcpy(d.H, u->H, (size_t)u->m * sizeof *d.H);
     memcpy(d.E, u->E, (size_t)(s * s) * sizeof *d.E);
     memcpy(d.df, u->df, (size_t)s * sizeof *d.df);
+    if (u->keep) {
+        if (!(d.keep = aug_malloc((size_t)u->m + 1))) goto nomem;
+        memcpy(d.keep, u->keep, (size_t)u->m);
+    }
     pthread_mutex_lock(&bg->mu);
     if (bg->nq == bg->qcap) {
         int c = bg->qcap ? 2 * bg->qcap : 16;

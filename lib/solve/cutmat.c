@@ -24,6 +24,7 @@ void aug_cum_free(aug_cum *c)
     free(c->pos);
     free(c->dF);
     free(c->mod);
+    free(c->keep);
     memset(c, 0, sizeof *c);
 }
 
@@ -50,6 +51,9 @@ static int grow_s(aug_cum *c, int64_t need)
     int64_t *mod = aug_realloc(c->mod, (size_t)nc * sizeof *mod);
     if (!mod) return -1;
     c->mod = mod;
+    unsigned char *keep = aug_realloc(c->keep, (size_t)nc);
+    if (!keep) return -1;
+    c->keep = keep;
     aug_ecol *E = aug_realloc(c->E, (size_t)nc * sizeof *E);
     if (!E) return -1;
     c->E = E;
@@ -134,9 +138,11 @@ int aug_cum_apply(aug_cum *c, const aug_update *u, aug_err *e)
             c->S[p] = idx;
             c->dF[p] = 0;
             c->mod[p] = 0;
+            c->keep[p] = 0;
             c->E[p] = (aug_ecol){0};
         }
         map[i] = c->pos[idx];
+        if (i < m && u->keep && u->keep[i]) c->keep[map[i]] = 1;
     }
     c->napply++;
     for (int64_t j = 0; j < s; j++) {

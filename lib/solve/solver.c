@@ -90,6 +90,10 @@ struct aug_solver {
     aug_par *par;        /* --threads >= 2: the two-core L^-T of AMPS (aug_par.h) */
     int64_t nstep;       /* steps taken (aug_solver_step calls), this one included */
     int32_t plan_last;   /* the stream's last cut step (pLAN), 0: unknown */
+    double *ue;          /* keep_blocks: the step's E with its unit block kept */
+    int64_t uecap;
+    unsigned char *ukeep; /* keep_blocks: the update's keep (m bytes) */
+    int64_t ukcap;
 };
 
 /* nnz(L) of the base's factor: the fill of K0's ordering, which the
@@ -211,6 +215,8 @@ void aug_solver_free(aug_solver *s)
     aug_base_release(s->base, s->cm);
     aug_cum_free(&s->cum);
     aug_cutmat_free(&s->cut, s->cm);
+    free(s->ue);
+    free(s->ukeep);
     for (int m = 0; m < AUG_M_COUNT; m++) free(s->field[m]);
     free(s->pcg_x), free(s->f), free(s->ref), free(s->tmp), free(s->tmp2);
     cholmod_dense **fw[] = {&s->fB, &s->fX, &s->fY, &s->fE};
@@ -1060,7 +1066,7 @@ int aug_solver_frame(aug_solver *s, const double *b, int32_t frame, aug_err *e)
     if (!s->prepped) { /* frames before any step: the per-step work of A_0 */
         static const int32_t none[1] = {0};
         static const double zero[1] = {0};
-        aug_update u0 = {0, 0, 0, (int32_t *)none, (double *)zero, (double *)zero, NULL, NULL};
+        aug_update u0 = {0, 0, 0, (int32_t *)none, (double *)zero, (double *)zero, NULL, NULL, NULL};
         if (buffers(s, s->cut.cum.n)) return aug_err_set(e, AUG_ENOMEM, -1, "fRAM", "out of memory");
         if ((rc = dynamic_step(s, &u0, 0, e))) return rc;
     }
@@ -1101,6 +1107,139 @@ static int dynamic_step(aug_solver *s, const aug_update *u, int swapped, aug_err
     return 0;
 }
 
+/* The update the base's methods (AMPS and its background job) compose when
+   old DOFs P of the step become unit rows of K_t with f_t = 0 (a piece
+   dropped, formats/stream.md 7.7; a pin's supports; --constrain at 0).
+   K_t holds the identity on P x P; AMPS takes instead
+   K'_t = blockdiag(B, K_t(R, R)): the same zero coupling between P and the
+   rest R, and B = K'_{t-1}(P, P) + G, G a diagonal of springs. On R the
+   solution is K_t's (R does not see P), on P it is 0 = f_t(P), which AMPS
+   takes exactly (amps_solve.c unit_rows; its correction leaves those rows
+   out, cum->keep). E' is E with its P x P block replaced by -G: E(P, P) =
+   K_{t-1}(P, P) - I, whose pattern is B's graph. A DOF inside a piece has
+   no coupling across it, so its column of E' is zero: it never joins S2
+   nor the memo (its load reaches them by one forward solve, amps_solve.c
+   lo_times). Dropping a piece costs AMPS the positions of its boundary,
+   which the cut that frees it changes anyway, and G's, not 3 unit rows per
+   node: the bunny of bench/organs.sh, 8-node steps, drops a 514-node piece
+   at step 6 (1,542 DOFs); S2 grew from 453 to 510 positions instead of
+   1,578, that step took 20 ms instead of 802, the median AMPS step
+   127 -> 34 ms (refactor 93), relres within 3.4x refactor's as before.
+   G holds each connected component of P x P still: K_{t-1}(P, P) alone is
+   as near singular as the piece was near detached (it hung by a thin
+   bridge), and with it AMPS's relres rose from 8e-10 to 7e-7 there. G puts
+   springs equal to the diagonal entries on three sites of the component,
+   far apart in its graph (a DOF, the farthest from it, the farthest from
+   both), each with the DOFs of the same pattern (its node's other
+   components). A component of at most SPRING_ALL DOFs, or with fewer DOFs
+   inside than on its boundary (a constrained face), stays as E has it. Only AMPS's composition changes; K_t itself (cutmat: residuals,
+   the correction's rows, refactor, rowupdate, pcg, --check) is the
+   stream's. Not with gmres, which shares the composition and checks its
+   residual against K_t, nor in dynamics, whose right-hand side is not f_t.
+   Returns u, or the copy with s->ue and s->ukeep; NULL: out of memory. */
+#define SPRING_ALL 12
+static const aug_update *keep_blocks(aug_solver *s, const aug_update *u, aug_update *tmp)
+{
+    if (s->o.dynamic || s->gm || u->m < 2) return u;
+    int64_t m = u->m, w = (int64_t)u->m + u->k;
+    const double *E = u->E;
+    if (m > s->ukcap) {
+        unsigned char *q = aug_realloc(s->ukeep, (size_t)m);
+        if (!q) return NULL;
+        s->ukeep = q, s->ukcap = m;
+    }
+    /* in[t]: H[t] in P (a row E changes that becomes a unit row at f_t = 0) */
+    unsigned char *in = s->ukeep;
+    int64_t np = 0;
+    for (int64_t t = 0; t < m; t++) {
+        in[t] = 0;
+        if (!aug_cutmat_unit(&s->cut, u->H[t]) || aug_cutmat_f(&s->cut, u->H[t]) != 0.0) continue;
+        for (int64_t j = 0; j < w && !in[t]; j++) in[t] = E[t + j * w] != 0;
+        np += in[t];
+    }
+    if (np < 2) return u;
+    int64_t need = w * w + 2 * m + 1;
+    if (need > s->uecap) {
+        double *q = aug_realloc(s->ue, (size_t)need * sizeof *q);
+        if (!q) return NULL;
+        s->ue = q, s->uecap = need;
+    }
+    double *ue = s->ue;
+    int32_t *comp = (int32_t *)(ue + w * w), *dist = comp + m, *queue = dist + m, *dmin = queue + m;
+    memcpy(ue, E, (size_t)(w * w) * sizeof *ue);
+    for (int64_t j = 0; j < m; j++)
+        if (in[j])
+            for (int64_t i = 0; i < m; i++)
+                if (in[i]) ue[i + j * w] = 0;
+    for (int64_t t = 0; t < m; t++) comp[t] = -1;
+    int32_t ncomp = 0;
+    int64_t nkept = 0;
+    for (int64_t t0 = 0; t0 < m; t0++) {
+        if (!in[t0] || comp[t0] >= 0) continue;
+        int32_t cid = ncomp++;
+        int64_t site[3] = {t0, -1, -1}, size = 0;
+        for (int k = 0; k < 3; k++) {
+            /* breadth-first distances from site k in the graph of E(P, P);
+               the component's DOFs in queue[0..size) */
+            int64_t src = site[k], qh = 0, qt = 0;
+            if (k == 0)
+                for (int64_t j = 0; j < m; j++) dist[j] = -1;
+            else
+                for (int64_t q = 0; q < size; q++) dist[queue[q]] = -1;
+            queue[qt++] = (int32_t)src, dist[src] = 0, comp[src] = cid;
+            while (qh < qt) {
+                int64_t v = queue[qh++];
+                for (int64_t j = 0; j < m; j++)
+                    if (in[j] && j != v && E[v + j * w] != 0 && dist[j] < 0)
+                        dist[j] = dist[v] + 1, comp[j] = cid, queue[qt++] = (int32_t)j;
+            }
+            size = qt;
+            if (size <= SPRING_ALL) break;
+            int64_t far = -1;
+            for (int64_t q = 0; q < size; q++) {
+                int64_t v = queue[q];
+                if (k == 0 || dist[v] < dmin[v]) dmin[v] = dist[v];
+                if (far < 0 || dmin[v] > dmin[far]) far = v;
+            }
+            if (k < 2) site[k + 1] = far;
+        }
+        /* a component mostly coupled to the rest gains nothing (its DOFs
+           join S2 either way, and the springs cost S2's conditioning): it
+           keeps the unit rows of E */
+        int64_t inner = 0;
+        for (int64_t q = 0; q < size && size > SPRING_ALL; q++) {
+            int64_t v = queue[q], out = 0;
+            for (int64_t j = 0; j < w && !out; j++) out = (j >= m || !in[j]) && E[v + j * w] != 0;
+            inner += !out;
+        }
+        if (size <= SPRING_ALL || 2 * inner < size) {
+            for (int64_t q = 0; q < size; q++)
+                for (int64_t r = 0; r < size; r++) {
+                    int64_t i = queue[r], j = queue[q];
+                    ue[i + j * w] = E[i + j * w];
+                }
+            for (int64_t q = 0; q < size; q++) in[queue[q]] = 0;
+            continue;
+        }
+        nkept += size;
+        for (int k = 0; k < 3; k++) {
+            int64_t v = site[k];
+            /* v and the DOFs of E(P, P) with v's pattern (its node's other components) */
+            for (int64_t q = 0; q < size; q++) {
+                int64_t j = queue[q], same = 1;
+                for (int64_t r = 0; r < m && same; r++)
+                    if (in[r]) same = (E[r + v * w] != 0) == (E[r + j * w] != 0);
+                if (same) ue[j + j * w] = -(E[j + j * w] + 1.0);
+            }
+        }
+    }
+    if (nkept == 0) return u;
+    *tmp = *u;
+    tmp->E = ue;
+    tmp->keep = in;
+    return tmp;
+}
+
 /* One step: K_t and f_t (AMPS eq. 3.1), the background factor swapped in when
    it is ready, the step composed into the update relative to the base, then
    every requested method in order, the --check reference, and the next
@@ -1116,8 +1255,11 @@ int aug_solver_step(aug_solver *s, const aug_update *u, const int32_t *out, int6
     int swapped, rc;
     if ((rc = join_background(s, &swapped, e))) return rc;
     if ((s->au_swapped = swapped && s->use[AUG_M_AUTO])) aug_auto_rebased(&s->au);
-    if (aug_cum_apply(&s->cum, u, e)) return e->code;
-    if (s->bg && aug_bg_running(s->bg) && aug_bg_push(s->bg, u, e)) return e->code;
+    aug_update kt;
+    const aug_update *ub = keep_blocks(s, u, &kt);
+    if (!ub) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    if (aug_cum_apply(&s->cum, ub, e)) return e->code;
+    if (s->bg && aug_bg_running(s->bg) && aug_bg_push(s->bg, ub, e)) return e->code;
     if (s->o.dynamic) return dynamic_step(s, u, swapped, e);
     /* a step that detaches a piece without Dirichlet support is singular */
     int detached = (flags & AUG_STEP_DETACHED) && !(flags & (AUG_STEP_PINNED | AUG_STEP_DROPPED));

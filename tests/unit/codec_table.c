@@ -45,7 +45,7 @@ static int write_all(aug_writer *w, const aug_mesh *m, const int32_t *map, int64
     for (int i = 0; i < 5; i++)
         for (int j = 0; j < 5; j++) E[i + 5 * j] = 1.0 / (1 + i + j);
     for (int i = 0; i < 5; i++) df[i] = i - 2.5;
-    aug_update u = {1, 2, 3, hdof, E, df, NULL, NULL};
+    aug_update u = {1, 2, 3, hdof, E, df, NULL, NULL, NULL};
     int32_t fd[2] = {4, 9};
     double fv[2] = {0, 0.125}, seg[6] = {0, 0, 0, 1, 1, 1};
     aug_bdelta b = {1, 2, fd, fv, 1, fd, fv, 2, 1};
