@@ -58,6 +58,10 @@ typedef struct aug_mdomain {
     double *dinv;               /* 1 / diag(A) over the free DOFs */
     const double *res;          /* the frame's full-order residual (du reduced, tmp FE; not owned) */
     unsigned char *iface;       /* nf: free DOF on an interface row */
+    int64_t nir;                /* the rows of A at the interface DOFs (fe_residual), */
+    int32_t *irow, *ric;        /*   row irow[t]: columns ric, values rix, irp[t].. */
+    int64_t *irp;               /*   irp[t + 1]; NULL until needed, freed when iface changes */
+    double *rix;
     double acc, last_res;       /* accumulated error estimate of its reduced frames (whole run), its last increment */
     int spent;                  /* a stretch ended on the budget: it does not switch again */
     double *Kr, *Mr, *Ar, *fr, *q, *qd, *br, *dq;
@@ -206,9 +210,13 @@ int aug_mdomain_rhs(aug_mdomain *d, const aug_dynp *p, cholmod_common *cm, aug_e
 /* the state advanced by the solution (du over the free DOFs, or dq); a
    reduced domain leaves the full-order residual of its frame in res */
 void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p);
-/* after the advance, an FE domain's residual b - A du over its free DOFs in
-   res (nonzero only where coupling forces act) */
+/* after the advance, an FE domain's residual b - A du in res, on its
+   interface rows only when iface is set (elsewhere it is zero up to the
+   solve's rounding, and the estimate reads only those rows), else on all
+   its free DOFs */
 int aug_mdomain_fe_residual(aug_mdomain *d, cholmod_common *cm, aug_err *e);
+/* drops the interface rows (iface changed) */
+void aug_mdomain_irows_free(aug_mdomain *d);
 /* FE -> reduced on the current basis (state projected), reduced -> FE */
 int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, cholmod_common *cm, aug_err *e);
 void aug_mdomain_unreduce(aug_mdomain *d);
