@@ -1136,6 +1136,9 @@ static int dynamic_step(aug_solver *s, const aug_update *u, int swapped, aug_err
    the correction's rows, refactor, rowupdate, pcg, --check) is the
    stream's. Not with gmres, which shares the composition and checks its
    residual against K_t, nor in dynamics, whose right-hand side is not f_t.
+   A later step that prescribes other values there (--drag of the dropped
+   piece) changes only f_t(P), which R does not see, and the values are
+   still taken exactly (tests/solve_amps_drop.test).
    Returns u, or the copy with s->ue and s->ukeep; NULL: out of memory. */
 #define SPRING_ALL 12
 static const aug_update *keep_blocks(aug_solver *s, const aug_update *u, aug_update *tmp)
