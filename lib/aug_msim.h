@@ -58,10 +58,7 @@ typedef struct aug_mdomain {
     double *dinv;               /* 1 / diag(A) over the free DOFs */
     const double *res;          /* the frame's full-order residual (du reduced, tmp FE; not owned) */
     unsigned char *iface;       /* nf: free DOF on an interface row */
-    int64_t nir;                /* the rows of A at the interface DOFs (fe_residual), */
-    int32_t *irow, *ric;        /*   row irow[t]: columns ric, values rix, irp[t].. */
-    int64_t *irp;               /*   irp[t + 1]; NULL until needed, freed when iface changes */
-    double *rix;
+    cholmod_sparse *Afull;      /* A with both triangles (fe_residual's rows), NULL until needed */
     double acc, last_res;       /* accumulated error estimate of its reduced frames (whole run), its last increment */
     int spent;                  /* a stretch ended on the budget: it does not switch again */
     double *Kr, *Mr, *Ar, *fr, *q, *qd, *br, *dq;
@@ -215,8 +212,6 @@ void aug_mdomain_advance(aug_mdomain *d, const aug_dynp *p);
    solve's rounding, and the estimate reads only those rows), else on all
    its free DOFs */
 int aug_mdomain_fe_residual(aug_mdomain *d, cholmod_common *cm, aug_err *e);
-/* drops the interface rows (iface changed) */
-void aug_mdomain_irows_free(aug_mdomain *d);
 /* FE -> reduced on the current basis (state projected), reduced -> FE */
 int aug_mdomain_reduce(aug_mdomain *d, const aug_dynp *p, cholmod_common *cm, aug_err *e);
 void aug_mdomain_unreduce(aug_mdomain *d);

@@ -47,6 +47,15 @@ void aug_cum_free(aug_cum *c);
 /* Compose one step: K_t = [K_{t-1} 0; 0 I_k] - Hbar (E + [0 0; 0 I_k]) Hbar'
    (formats/stream.md 7.2) into (S, Ebar, dF). Validates H against n. */
 int aug_cum_apply(aug_cum *c, const aug_update *u, aug_err *e);
+/* 1 when Ebar(:, p) has a nonzero entry (position p couples to others);
+   0: a load-only position, or a copy of a constrained DOF (amps_schur.c
+   activate: no column of S2; amps_reach.c: no memo column) */
+static inline int aug_cum_coupled(const aug_cum *c, int64_t p)
+{
+    for (int32_t t = 0; t < c->E[p].nz; t++)
+        if (c->E[p].x[t] != 0) return 1;
+    return 0;
+}
 /* Number of positions of S that are base DOFs (index < nb). */
 int64_t aug_cum_morig(const aug_cum *c);
 

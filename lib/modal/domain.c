@@ -15,9 +15,8 @@ void aug_mdomain_free(aug_mdomain *d, cholmod_common *cm)
     free(d->W), free(d->Kr), free(d->Mr), free(d->Ar), free(d->fr), free(d->q), free(d->qd);
     free(d->br), free(d->dq), free(d->lmaX), free(d->MW), free(d->KW), free(d->flift), free(d->dinv);
     free(d->iface);
-    aug_mdomain_irows_free(d);
-    cholmod_sparse **s[] = {&d->Kall, &d->Mall, &d->Aall, &d->K, &d->M, &d->A};
-    for (int i = 0; i < 6; i++)
+    cholmod_sparse **s[] = {&d->Kall, &d->Mall, &d->Aall, &d->K, &d->M, &d->A, &d->Afull};
+    for (int i = 0; i < 7; i++)
         if (*s[i]) cholmod_free_sparse(s[i], cm);
     if (d->have_svd) {
         aug_isvd_free(&d->svd);
@@ -270,72 +269,24 @@ static void residual(aug_mdomain *d, const aug_dynp *p)
     d->res = res;
 }
 
-void aug_mdomain_irows_free(aug_mdomain *d)
-{
-    free(d->irow), free(d->ric), free(d->irp), free(d->rix);
-    d->irow = d->ric = NULL, d->irp = NULL, d->rix = NULL, d->nir = 0;
-}
-
-/* the rows of A (one triangle stored, A symmetric) at the interface DOFs,
-   compressed: row r gathers column r's entries and its own entry in every
-   later column; 0 or -1 (memory) */
-static int irows_build(aug_mdomain *d)
-{
-    const int32_t *Ap = d->A->p, *Ai = d->A->i;
-    const double *Ax = d->A->x;
-    int64_t nf = d->nf, nir = 0;
-    int32_t *at = malloc((size_t)(nf + 1) * sizeof *at);
-    if (!at) return -1;
-    for (int64_t i = 0; i < nf; i++) at[i] = d->iface[i] ? (int32_t)nir++ : -1;
-    d->irp = calloc((size_t)nir + 1, sizeof *d->irp);
-    d->irow = malloc((size_t)nir * sizeof *d->irow + 1);
-    if (!d->irp || !d->irow) goto nomem;
-    for (int64_t j = 0; j < nf; j++)
-        for (int32_t k = Ap[j]; k < Ap[j + 1]; k++) {
-            int32_t i = Ai[k];
-            if (at[i] >= 0) d->irp[at[i] + 1]++;
-            if (i != j && at[j] >= 0) d->irp[at[j] + 1]++;
-        }
-    for (int64_t t = 0; t < nir; t++) d->irp[t + 1] += d->irp[t];
-    d->ric = malloc((size_t)d->irp[nir] * sizeof *d->ric + 1);
-    d->rix = malloc((size_t)d->irp[nir] * sizeof *d->rix + 1);
-    int64_t *pos = malloc((size_t)(nir + 1) * sizeof *pos);
-    if (!d->ric || !d->rix || !pos) {
-        free(pos);
-        goto nomem;
-    }
-    memcpy(pos, d->irp, (size_t)nir * sizeof *pos);
-    for (int64_t i = 0; i < nf; i++)
-        if (at[i] >= 0) d->irow[at[i]] = (int32_t)i;
-    for (int64_t j = 0; j < nf; j++)
-        for (int32_t k = Ap[j]; k < Ap[j + 1]; k++) {
-            int32_t i = Ai[k];
-            if (at[i] >= 0) d->ric[pos[at[i]]] = (int32_t)j, d->rix[pos[at[i]]++] = Ax[k];
-            if (i != j && at[j] >= 0) d->ric[pos[at[j]]] = i, d->rix[pos[at[j]]++] = Ax[k];
-        }
-    free(pos);
-    free(at);
-    d->nir = nir;
-    return 0;
-nomem:
-    free(at);
-    aug_mdomain_irows_free(d);
-    return -1;
-}
-
 int aug_mdomain_fe_residual(aug_mdomain *d, cholmod_common *cm, aug_err *e)
 {
     aug_err_clear(e);
     if (d->mode != AUG_MD_FE) return 0;
     d->res = NULL;
     if (d->nf == 0) return 0;
-    if (d->iface && d->A->stype != 0) {
-        /* the interface rows alone: one row of A each, not the whole A du */
-        if (!d->irp && irows_build(d)) return NOMEM(e);
-        for (int64_t t = 0; t < d->nir; t++) {
+    if (d->iface) {
+        /* the interface rows alone: one row of A each (a column of A with
+           both triangles, copied once: A changes only with a rebuild), not
+           the whole A du */
+        if (!d->Afull && !(d->Afull = cholmod_copy(d->A, 0, 1, cm))) return NOMEM(e);
+        const int32_t *Ap = d->Afull->p, *Ai = d->Afull->i;
+        const double *Ax = d->Afull->x;
+        for (int64_t i = 0; i < d->nf; i++) {
+            if (!d->iface[i]) continue;
             double acc = 0;
-            for (int64_t q = d->irp[t]; q < d->irp[t + 1]; q++) acc += d->rix[q] * d->du[d->ric[q]];
-            d->tmp[d->irow[t]] = d->b[d->irow[t]] - acc;
+            for (int32_t q = Ap[i]; q < Ap[i + 1]; q++) acc += Ax[q] * d->du[Ai[q]];
+            d->tmp[i] = d->b[i] - acc;
         }
         d->res = d->tmp;
         return 0;

@@ -142,7 +142,6 @@ static int mark_iface(aug_msim *s, aug_err *e)
     for (int di = 0; di < s->nd; di++) {
         aug_mdomain *d = &s->d[di];
         free(d->iface);
-        aug_mdomain_irows_free(d);
         if (!(d->iface = calloc((size_t)d->nf + 1, 1))) return NOMEM(e);
     }
     for (int64_t k = 0; k < s->m; k++) s->d[s->ca[k]].iface[s->cia[k]] = 1, s->d[s->cb[k]].iface[s->cib[k]] = 1;

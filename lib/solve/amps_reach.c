@@ -103,17 +103,14 @@ fail:
 }
 
 /* a memo column for position p of S: a base DOF not yet in it whose column
-   of Ebar is nonzero (or every base DOF, M->all). The others change only
+   of Ebar is nonzero, as S2's active positions (or every base DOF, M->all).
+   The others change only
    the load (dF): S2 and the field reach them by one forward solve of their
    loads a step (amps_solve.c, lo_times), not by columns of V and G, which
    would cost their paths and their |S| products in G on every later step. */
 static int wants(const aug_memo *M, const aug_cum *c, int64_t p)
 {
-    if (c->S[p] >= c->nb || M->cpos[p] >= 0) return 0;
-    if (M->all) return 1;
-    for (int32_t t = 0; t < c->E[p].nz; t++)
-        if (c->E[p].x[t] != 0) return 1;
-    return 0;
+    return c->S[p] < c->nb && M->cpos[p] < 0 && (M->all || aug_cum_coupled(c, p));
 }
 
 /* V(:, new) = L^-1 P H_dt (paper 001 eqs. 3.23-3.24, table 1 step 1): a column for

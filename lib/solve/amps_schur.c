@@ -79,10 +79,7 @@ static int activate(aug_schur *s, const aug_memo *M, const aug_cum *c)
         s->pcap = c->cap;
     }
     for (int64_t p = 0; p < c->ns; p++) {
-        if (s->act[p] || c->mod[p] <= s->stamp) continue;
-        int32_t t = 0;
-        while (t < c->E[p].nz && c->E[p].x[t] == 0) t++;
-        if (t == c->E[p].nz) continue;
+        if (s->act[p] || c->mod[p] <= s->stamp || !aug_cum_coupled(c, p)) continue;
         if (s->na == s->acap) {
             int64_t nc = s->acap ? 2 * s->acap : 64;
             int32_t *A = aug_realloc(s->A, (size_t)nc * sizeof *A);

@@ -171,14 +171,15 @@ static int lo_times(aug_amps *a, const aug_base *b, const aug_cum *c, const doub
     const aug_schur *s = &a->schur;
     if (!a->zlo || !a->lset) return -1;
     int32_t *start = a->ca; /* n_b-sized scratch, free here */
+    double *z = a->zlo;     /* zero outside the closure, which holds start */
     int64_t k = 0;
     for (int64_t p = 0; p < c->ns; p++)
-        if (c->S[p] < c->nb && M->cpos[p] < 0 && w[p] != 0) start[k++] = b->pinv[c->S[p]];
+        if (c->S[p] < c->nb && M->cpos[p] < 0 && w[p] != 0) {
+            start[k++] = b->pinv[c->S[p]];
+            z[b->pinv[c->S[p]]] = w[p];
+        }
     if (k == 0) return 0;
     int64_t nl = aug_ldl_closure(b, start, k, a->lset, a->mark);
-    double *z = a->zlo;
-    for (int64_t p = 0; p < c->ns; p++)
-        if (c->S[p] < c->nb && M->cpos[p] < 0) z[b->pinv[c->S[p]]] += w[p];
     aug_ldl_lsolve_closure_super(b, a->lset, nl, z, a->t2);
     aug_ldl_dsolve(b, a->lset, nl, z);
     for (int64_t aq = 0; aq < s->na; aq++) {

@@ -1132,10 +1132,12 @@ static int dynamic_step(aug_solver *s, const aug_update *u, int swapped, aug_err
    far apart in its graph (a DOF, the farthest from it, the farthest from
    both), each with the DOFs of the same pattern (its node's other
    components). A component of at most SPRING_ALL DOFs, or with fewer DOFs
-   inside than on its boundary (a constrained face), stays as E has it. Only AMPS's composition changes; K_t itself (cutmat: residuals,
-   the correction's rows, refactor, rowupdate, pcg, --check) is the
-   stream's. Not with gmres, which shares the composition and checks its
-   residual against K_t, nor in dynamics, whose right-hand side is not f_t.
+   inside than on its boundary (a constrained face), stays as E has it.
+   Only AMPS's composition changes; K_t itself (cutmat: residuals, the
+   correction's rows, refactor, rowupdate, pcg, --check) is the stream's.
+   Only when amps or auto runs; not with gmres, which shares the
+   composition and checks its residual against K_t, nor in dynamics, whose
+   right-hand side is not f_t.
    A later step that prescribes other values there (--drag of the dropped
    piece) changes only f_t(P), which R does not see, and the values are
    still taken exactly (tests/solve_amps_drop.test).
@@ -1143,7 +1145,7 @@ static int dynamic_step(aug_solver *s, const aug_update *u, int swapped, aug_err
 #define SPRING_ALL 12
 static const aug_update *keep_blocks(aug_solver *s, const aug_update *u, aug_update *tmp)
 {
-    if (s->o.dynamic || s->gm || u->m < 2) return u;
+    if (s->o.dynamic || s->gm || u->m < 2 || !(s->use[AUG_M_AMPS] || s->use[AUG_M_AUTO])) return u;
     int64_t m = u->m, w = (int64_t)u->m + u->k;
     const double *E = u->E;
     if (m > s->ukcap) {
@@ -1168,18 +1170,16 @@ static const aug_update *keep_blocks(aug_solver *s, const aug_update *u, aug_upd
         s->ue = q, s->uecap = need;
     }
     double *ue = s->ue;
-    int32_t *comp = (int32_t *)(ue + w * w), *dist = comp + m, *queue = dist + m, *dmin = queue + m;
+    int32_t *seen = (int32_t *)(ue + w * w), *dist = seen + m, *queue = dist + m, *dmin = queue + m;
     memcpy(ue, E, (size_t)(w * w) * sizeof *ue);
     for (int64_t j = 0; j < m; j++)
         if (in[j])
             for (int64_t i = 0; i < m; i++)
                 if (in[i]) ue[i + j * w] = 0;
-    for (int64_t t = 0; t < m; t++) comp[t] = -1;
-    int32_t ncomp = 0;
+    for (int64_t t = 0; t < m; t++) seen[t] = 0;
     int64_t nkept = 0;
-    for (int64_t t0 = 0; t0 < m; t0++) {
-        if (!in[t0] || comp[t0] >= 0) continue;
-        int32_t cid = ncomp++;
+    for (int64_t t0 = 0; t0 < m; t0++) { /* per connected component of E(P, P) */
+        if (!in[t0] || seen[t0]) continue;
         int64_t site[3] = {t0, -1, -1}, size = 0;
         for (int k = 0; k < 3; k++) {
             /* breadth-first distances from site k in the graph of E(P, P);
@@ -1189,12 +1189,12 @@ static const aug_update *keep_blocks(aug_solver *s, const aug_update *u, aug_upd
                 for (int64_t j = 0; j < m; j++) dist[j] = -1;
             else
                 for (int64_t q = 0; q < size; q++) dist[queue[q]] = -1;
-            queue[qt++] = (int32_t)src, dist[src] = 0, comp[src] = cid;
+            queue[qt++] = (int32_t)src, dist[src] = 0, seen[src] = 1;
             while (qh < qt) {
                 int64_t v = queue[qh++];
                 for (int64_t j = 0; j < m; j++)
                     if (in[j] && j != v && E[v + j * w] != 0 && dist[j] < 0)
-                        dist[j] = dist[v] + 1, comp[j] = cid, queue[qt++] = (int32_t)j;
+                        dist[j] = dist[v] + 1, seen[j] = 1, queue[qt++] = (int32_t)j;
             }
             size = qt;
             if (size <= SPRING_ALL) break;
