@@ -284,6 +284,7 @@ typedef struct aug_schur {
     int64_t nlu;         /* order of the valid factorization, 0: none */
     int64_t stamp;       /* aug_cum napply it reflects */
     int64_t k0;          /* last step: first re-eliminated column (0: full) */
+    int64_t nkept;       /* last step: columns from k0 on carried by the old L22 U22 */
     int want_rcond;      /* estimate rcond (dgecon, O(na^2)) */
     double rcond;        /* NaN unless estimated */
     int detsign;

@@ -237,6 +237,7 @@ static int full_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t n1
     int64_t ld = s->scap;
     for (int64_t b = 0; b < n1; b++) s2_column(s, M, b, 0, s->S2 + b * ld, W->wq, W->wv);
     s->k0 = 0;
+    s->nkept = 0;
     return LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, (lapack_int)n1, (lapack_int)n1, s->S2, (lapack_int)ld,
                           s->ipiv);
 }
@@ -272,21 +273,64 @@ static void swap_rows(double *LU, int64_t ld, int64_t c0, int64_t nc, const int3
 }
 
 /* the factorization of order n0 extended to n1 and re-eliminated from column k0
-   (right-looking block LU, [GVL] ch. 3): new rows L21 = S2(n0:n1, 0:k0) U11^-1,
-   U12 = L11^-1 P S2(0:k0, k0:n1), trailing S2_22 - L21 U12 by dgetrf, its pivots
-   applied to L21. -2 when a new multiplier exceeds GROWTH_MAX (caller: full_lu). */
-static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t n0, int64_t n1,
-                     int64_t k0)
+   (right-looking block LU, [GVL] ch. 3), P1 the first k0 row interchanges:
+   new rows L21 = S2(n0:n1, 0:k0) U11^-1; the trailing block T = (P1 S2)_22 -
+   L21 U12 formed, then LU-factored afresh by dgetrf and its pivots applied to
+   L21. A column of T is formed one of two ways:
+     - fresh (changed by the step, or new): S2's column, P1, U12 = L11^-1 of
+       its first k0 rows (dtrsm), T = the rest - L21 U12 (dgemm), gathered
+       into a block so that each is one BLAS 3 call;
+     - kept (b < n0, S2(:, b) unchanged): U12(:, b) is the old factor's, and
+       on the old rows T = P2^-1 L22 U22 (P2 the old interchanges from k0 on:
+       the old factorization of T carried that far), one dtrmm over the kept
+       columns of the old L22 U22, instead of the dgemm with all k0 columns
+       of L21; only the new rows are formed, S2(n0:n1, b) - L21 U12(:, b).
+   An 8-node step re-eliminates S2 from about 2/3 of its order while
+   changing a few columns there (bunny: k0 870 of 1,281, 36 new, 411 re-
+   eliminated): the dgemm of 2 nt^2 k0 and dtrsm of k0^2 nt flops over all
+   of them were most of the step's S2 time. -2 when a new multiplier exceeds
+   GROWTH_MAX (caller: full_lu). flops: those this call did. */
+static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, const unsigned char *chg,
+                     int64_t n0, int64_t n1, int64_t k0, double *flops)
 {
-    int64_t ld = s->scap, nt = n1 - k0, nn = n1 - n0;
+    int64_t ld = s->scap, nt = n1 - k0, nn = n1 - n0, m = n0 - k0;
     double *LU = s->S2;
     int *ipiv = s->ipiv;
     int32_t *sa = W->sw, *sb = W->sw + n1, *idx = W->sw + 2 * n1;
     double *tmp = W->tmp;
-    int64_t ns = 0;
-    /* rows of L(:, 0:k0) back to their order after the first k0 interchanges */
-    for (int64_t i = n0 - 1; i >= k0; i--)
+    int64_t ns = 0, nf = 0, nk = 0;
+    for (int64_t b = k0; b < n1; b++) chg[b] ? nf++ : nk++;
+    int32_t *cf = aug_malloc((size_t)(nt + 1) * sizeof *cf), *ck = cf + nf;
+    double *X = aug_malloc((size_t)(n1 * nf + 1) * sizeof *X);
+    double *Y = aug_malloc((size_t)(m * nk + 1) * sizeof *Y);
+    double *Z = aug_malloc((size_t)(nn * nk + 1) * sizeof *Z);
+    int rc = 0;
+    if (!cf || !X || !Y || !Z) {
+        rc = -3;
+        goto out;
+    }
+    nf = nk = 0;
+    for (int64_t b = k0; b < n1; b++) {
+        if (chg[b]) cf[nf++] = (int32_t)b;
+        else ck[nk++] = (int32_t)b;
+    }
+    for (int64_t i = n0 - 1; i >= k0; i--) /* P2, undone in this order */
         if (ipiv[i] - 1 != i) sa[ns] = (int32_t)i, sb[ns++] = ipiv[i] - 1;
+    if (nk > 0) { /* kept columns on the old rows: P2^-1 L22 U22, before L22 is overwritten */
+        for (int64_t j = 0; j < nk; j++) {
+            int64_t d = ck[j] - k0;
+            const double *u = LU + k0 + ck[j] * ld;
+            double *y = Y + j * m;
+            memcpy(y, u, (size_t)(d + 1) * sizeof *y);
+            memset(y + d + 1, 0, (size_t)(m - d - 1) * sizeof *y);
+        }
+        cblas_dtrmm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasUnit, (int)m, (int)nk, 1.0,
+                    LU + k0 + k0 * ld, (int)ld, Y, (int)m);
+        for (int64_t t = 0; t < ns; t++) sa[t] -= (int32_t)k0, sb[t] -= (int32_t)k0;
+        swap_rows(Y, m, 0, nk, sa, sb, ns, idx, tmp);
+        for (int64_t t = 0; t < ns; t++) sa[t] += (int32_t)k0, sb[t] += (int32_t)k0;
+    }
+    /* rows of L(:, 0:k0) back to their order after P1 */
     swap_rows(LU, ld, 0, k0, sa, sb, ns, idx, tmp);
     if (nn > 0) {
         for (int64_t b = 0; b < k0; b++) s2_column(s, M, b, n0, LU + b * ld, W->wq, W->wv);
@@ -294,20 +338,51 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t 
                     (int)k0, 1.0, LU, (int)ld, LU + n0, (int)ld);
         for (int64_t b = 0; b < k0; b++)
             for (int64_t r = n0; r < n1; r++)
-                if (!(fabs(LU[r + b * ld]) <= GROWTH_MAX)) return -2;
+                if (!(fabs(LU[r + b * ld]) <= GROWTH_MAX)) {
+                    rc = -2;
+                    goto out;
+                }
     }
-    for (int64_t b = k0; b < n1; b++) s2_column(s, M, b, 0, LU + b * ld, W->wq, W->wv);
+    /* fresh columns, gathered into X (ld n1) */
+    for (int64_t j = 0; j < nf; j++) {
+        s2_column(s, M, cf[j], 0, tmp, W->wq, W->wv);
+        memcpy(X + j * n1, tmp, (size_t)n1 * sizeof *X);
+    }
     ns = 0;
     for (int64_t i = 0; i < k0; i++)
         if (ipiv[i] - 1 != i) sa[ns] = (int32_t)i, sb[ns++] = ipiv[i] - 1;
-    swap_rows(LU, ld, k0, nt, sa, sb, ns, idx, tmp);
-    cblas_dtrsm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasUnit, (int)k0, (int)nt, 1.0,
-                LU, (int)ld, LU + k0 * ld, (int)ld);
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)nt, (int)nt, (int)k0, -1.0, LU + k0,
-                (int)ld, LU + k0 * ld, (int)ld, 1.0, LU + k0 + k0 * ld, (int)ld);
+    swap_rows(X, n1, 0, nf, sa, sb, ns, idx, tmp);
+    cblas_dtrsm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasUnit, (int)k0, (int)nf, 1.0,
+                LU, (int)ld, X, (int)n1);
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)nt, (int)nf, (int)k0, -1.0, LU + k0,
+                (int)ld, X, (int)n1, 1.0, X + k0, (int)n1);
+    /* kept columns on the new rows: S2(n0:n1, b) - L21 U12(:, b) */
+    if (nk > 0 && nn > 0) {
+        double *U = aug_malloc((size_t)(k0 * nk + 1) * sizeof *U);
+        if (!U) {
+            rc = -3;
+            goto out;
+        }
+        for (int64_t j = 0; j < nk; j++) {
+            memcpy(U + j * k0, LU + ck[j] * ld, (size_t)k0 * sizeof *U);
+            s2_column(s, M, ck[j], n0, tmp, W->wq, W->wv);
+            memcpy(Z + j * nn, tmp + n0, (size_t)nn * sizeof *Z);
+        }
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)nn, (int)nk, (int)k0, -1.0, LU + n0,
+                    (int)ld, U, (int)k0, 1.0, Z, (int)nn);
+        free(U);
+    }
+    for (int64_t j = 0; j < nf; j++) memcpy(LU + cf[j] * ld, X + j * n1, (size_t)n1 * sizeof *X);
+    for (int64_t j = 0; j < nk; j++) {
+        memcpy(LU + k0 + ck[j] * ld, Y + j * m, (size_t)m * sizeof *Y);
+        if (nn > 0) memcpy(LU + n0 + ck[j] * ld, Z + j * nn, (size_t)nn * sizeof *Z);
+    }
     lapack_int info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, (lapack_int)nt, (lapack_int)nt,
                                      LU + k0 + k0 * ld, (lapack_int)ld, ipiv + k0);
-    if (info < 0) return (int)info;
+    if (info < 0) {
+        rc = (int)info;
+        goto out;
+    }
     ns = 0;
     for (int64_t i = 0; i < nt; i++) {
         int64_t p = ipiv[k0 + i] - 1;
@@ -316,7 +391,16 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, int64_t 
     }
     swap_rows(LU, ld, 0, k0, sa, sb, ns, idx, tmp);
     s->k0 = k0;
-    return info > 0 ? (int)(info + k0) : 0;
+    s->nkept = nk;
+    rc = info > 0 ? (int)(info + k0) : 0;
+out:
+    {
+        double K = (double)k0, F = (double)nf, Kp = (double)nk, Nn = (double)nn, T = (double)nt;
+        *flops = 2.0 * (double)n1 * F + K * K * (Nn + F) + 2.0 * T * F * K + Kp * (double)m * (double)m +
+                 2.0 * Nn * Kp * K + 2.0 / 3.0 * T * T * T;
+    }
+    free(cf), free(X), free(Y), free(Z);
+    return rc;
 }
 
 /* cs[b] = sum_r |S2(r, b)| (for the 1-norm of S2): changed columns anew, the
@@ -379,15 +463,18 @@ int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double r
     }
     if (elists(s, c, chg, n0) || s2_work_new(s, &W)) goto nomem;
     if ((s->want_rcond || rcond_min > 0) && colsums(s, M, &W, chg, n0)) goto nomem;
-    free(chg);
-    chg = NULL;
     if (k0 == n1 && s->nlu == n1) { /* nothing changed */
+        free(chg);
         s2_work_free(&W);
         goto done;
     }
-    int info = k0 > 0 ? update_lu(s, M, &W, n0, n1, k0) : full_lu(s, M, &W, n1);
-    s->flops = aug_s2_flops(n0, n1, k0);
+    double fl = aug_s2_flops(0, n1, 0);
+    int info = k0 > 0 ? update_lu(s, M, &W, chg, n0, n1, k0, &fl) : full_lu(s, M, &W, n1);
+    s->flops = fl;
     if (info == -2) info = full_lu(s, M, &W, n1), s->flops += aug_s2_flops(0, n1, 0);
+    free(chg);
+    chg = NULL;
+    if (info == -3) goto nomem;
     s2_work_free(&W);
     if (info < 0) return aug_err_set(e, AUG_EUSAGE, -1, "UPDT", "dgetrf: argument %d", -info);
     s->stamp = c->napply;
