@@ -22,6 +22,8 @@
 /* multipliers of the new rows against the kept pivots above this bound
    (those pivots were chosen without the new rows) force a full factorization */
 #define GROWTH_MAX 1e3
+/* update_lu out of memory (below any dgetrf argument number) */
+#define LU_NOMEM (-1000)
 
 void aug_schur_init(aug_schur *s)
 {
@@ -289,7 +291,7 @@ static void swap_rows(double *LU, int64_t ld, int64_t c0, int64_t nc, const int3
    changing a few columns there (bunny: k0 870 of 1,281, 36 new, 411 re-
    eliminated): the dgemm of 2 nt^2 k0 and dtrsm of k0^2 nt flops over all
    of them were most of the step's S2 time. -2 when a new multiplier exceeds
-   GROWTH_MAX (caller: full_lu). flops: those this call did. */
+   GROWTH_MAX (caller: full_lu), LU_NOMEM. flops: those this call did. */
 static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, const unsigned char *chg,
                      int64_t n0, int64_t n1, int64_t k0, double *flops)
 {
@@ -300,15 +302,16 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, const un
     double *tmp = W->tmp;
     int64_t ns = 0, nf = 0, nk = 0;
     for (int64_t b = k0; b < n1; b++) chg[b] ? nf++ : nk++;
-    int32_t *cf = aug_malloc((size_t)(nt + 1) * sizeof *cf), *ck = cf + nf;
+    int32_t *cf = aug_malloc((size_t)(nt + 1) * sizeof *cf), *ck = NULL;
     double *X = aug_malloc((size_t)(n1 * nf + 1) * sizeof *X);
     double *Y = aug_malloc((size_t)(m * nk + 1) * sizeof *Y);
     double *Z = aug_malloc((size_t)(nn * nk + 1) * sizeof *Z);
     int rc = 0;
     if (!cf || !X || !Y || !Z) {
-        rc = -3;
+        rc = LU_NOMEM;
         goto out;
     }
+    ck = cf + nf;
     nf = nk = 0;
     for (int64_t b = k0; b < n1; b++) {
         if (chg[b]) cf[nf++] = (int32_t)b;
@@ -360,7 +363,7 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, const un
     if (nk > 0 && nn > 0) {
         double *U = aug_malloc((size_t)(k0 * nk + 1) * sizeof *U);
         if (!U) {
-            rc = -3;
+            rc = LU_NOMEM;
             goto out;
         }
         for (int64_t j = 0; j < nk; j++) {
@@ -474,7 +477,7 @@ int aug_schur_factor(aug_schur *s, const aug_memo *M, const aug_cum *c, double r
     if (info == -2) info = full_lu(s, M, &W, n1), s->flops += aug_s2_flops(0, n1, 0);
     free(chg);
     chg = NULL;
-    if (info == -3) goto nomem;
+    if (info == LU_NOMEM) goto nomem;
     s2_work_free(&W);
     if (info < 0) return aug_err_set(e, AUG_EUSAGE, -1, "UPDT", "dgetrf: argument %d", -info);
     s->stamp = c->napply;
