@@ -319,20 +319,6 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, const un
     }
     for (int64_t i = n0 - 1; i >= k0; i--) /* P2, undone in this order */
         if (ipiv[i] - 1 != i) sa[ns] = (int32_t)i, sb[ns++] = ipiv[i] - 1;
-    if (nk > 0) { /* kept columns on the old rows: P2^-1 L22 U22, before L22 is overwritten */
-        for (int64_t j = 0; j < nk; j++) {
-            int64_t d = ck[j] - k0;
-            const double *u = LU + k0 + ck[j] * ld;
-            double *y = Y + j * m;
-            memcpy(y, u, (size_t)(d + 1) * sizeof *y);
-            memset(y + d + 1, 0, (size_t)(m - d - 1) * sizeof *y);
-        }
-        cblas_dtrmm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasUnit, (int)m, (int)nk, 1.0,
-                    LU + k0 + k0 * ld, (int)ld, Y, (int)m);
-        for (int64_t t = 0; t < ns; t++) sa[t] -= (int32_t)k0, sb[t] -= (int32_t)k0;
-        swap_rows(Y, m, 0, nk, sa, sb, ns, idx, tmp);
-        for (int64_t t = 0; t < ns; t++) sa[t] += (int32_t)k0, sb[t] += (int32_t)k0;
-    }
     /* rows of L(:, 0:k0) back to their order after P1 */
     swap_rows(LU, ld, 0, k0, sa, sb, ns, idx, tmp);
     if (nn > 0) {
@@ -346,11 +332,22 @@ static int update_lu(aug_schur *s, const aug_memo *M, const s2_work *W, const un
                     goto out;
                 }
     }
-    /* fresh columns, gathered into X (ld n1) */
-    for (int64_t j = 0; j < nf; j++) {
-        s2_column(s, M, cf[j], 0, tmp, W->wq, W->wv);
-        memcpy(X + j * n1, tmp, (size_t)n1 * sizeof *X);
+    if (nk > 0) { /* kept columns on the old rows: P2^-1 L22 U22 (L22 is overwritten only by the
+                     scatter below; after the growth check, so that a full_lu wastes no dtrmm) */
+        for (int64_t j = 0; j < nk; j++) {
+            int64_t d = ck[j] - k0;
+            const double *u = LU + k0 + ck[j] * ld;
+            double *y = Y + j * m;
+            memcpy(y, u, (size_t)(d + 1) * sizeof *y);
+            memset(y + d + 1, 0, (size_t)(m - d - 1) * sizeof *y);
+        }
+        cblas_dtrmm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasUnit, (int)m, (int)nk, 1.0,
+                    LU + k0 + k0 * ld, (int)ld, Y, (int)m);
+        for (int64_t t = 0; t < ns; t++) sa[t] -= (int32_t)k0, sb[t] -= (int32_t)k0; /* Y's rows */
+        swap_rows(Y, m, 0, nk, sa, sb, ns, idx, tmp); /* (the list is P1's from here) */
     }
+    /* fresh columns, gathered into X (ld n1) */
+    for (int64_t j = 0; j < nf; j++) s2_column(s, M, cf[j], 0, X + j * n1, W->wq, W->wv);
     ns = 0;
     for (int64_t i = 0; i < k0; i++)
         if (ipiv[i] - 1 != i) sa[ns] = (int32_t)i, sb[ns++] = ipiv[i] - 1;
