@@ -21,7 +21,10 @@ B=bin; O=bench/out; T=${TMPDIR:-/tmp}/par_threads.$$; mkdir -p $O $T
 trap 'rm -rf $T' EXIT
 MESHES=${MESHES:-../shared/meshes}; STEPS=${STEPS:-64}; ROUNDS=${ROUNDS:-2}
 SCENES=${SCENES:-"brain liver sphere3"}
-export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
+# no thread variables exported: the tools set them as for any user
+# (lib/cli/threads_env.c: OpenMP 1, OpenBLAS N, lowered to 1 in the steps
+# when the pool runs, lib/solve/solver.c)
+unset OMP_NUM_THREADS OPENBLAS_NUM_THREADS OMP_THREAD_LIMIT
 for t in meshload factor cut solve-aug stats; do
     [ -x $B/$t ] || { echo "par_threads.sh: $B/$t missing (make first)" >&2; exit 1; }
 done

@@ -18,7 +18,7 @@ static const char *help =
     "  FILE                  input stream (default: stdin)\n"
     "  --ordering auto|amd|metis   fill-reducing ordering (auto: CHOLMOD's choice)\n"
     "  --simplicial          simplicial LDL' factorization (default: supernodal)\n"
-    "  --threads N           threads of CHOLMOD and OpenBLAS (default 1)\n"
+    "  --threads N           threads of OpenBLAS under CHOLMOD (default 1)\n"
     "  --mass consistent|lumped  also write that mass matrix (KMAT which 1 or 2);\n"
     "                        with --dynamic: the M of the integrator (default consistent)\n"
     "  --lumped-mass         also write the lumped mass matrix (KMAT which 2)\n"

@@ -60,7 +60,7 @@ static const char *help =
     "                       updates, as solve-aug) or cholmod (the shared-node system factored)\n"
     "  --ordering auto|amd|metis  fill-reducing ordering of the FE factors (default metis)\n"
     "  --seed S             seed of the estimate's probes (default 1)\n"
-    "  --threads N          threads of CHOLMOD and OpenBLAS (default 1)\n"
+    "  --threads N          threads of OpenBLAS under CHOLMOD (default 1)\n"
     "  -h                   this help; see modal(1)\n";
 
 typedef struct options {

@@ -57,7 +57,7 @@ static const char *help =
     "  --spare N            rowupdate: spare identity rows for new DOFs (default 3000)\n"
     "  --on-singular error|report  a singular step: exit 1 (default) or report and go on\n"
     "  --reach path|cholmod AMPS V columns: own etree-path solve (default) or cholmod_solve2\n"
-    "  --threads N          threads of CHOLMOD and OpenBLAS (default 1); 2 or more: AMPS's\n"
+    "  --threads N          threads of OpenBLAS under CHOLMOD (default 1); 2 or more: AMPS's\n"
     "                       full-field back-substitution on two cores (solve-aug(1))\n"
     "  --frames N           dynamic stream: time frames per cut step (default 1)\n"
     "  --settle N           dynamic stream: frames after the last step (default 0)\n"

@@ -38,11 +38,16 @@ cholmod_sparse *aug_assemble(const aug_mesh *m, const int32_t *map, int64_t nfre
 int aug_load_vector(const aug_mesh *m, const int32_t *map, int64_t nfree, double *f,
                     aug_err *e);
 
-/* Threading for every tool that calls CHOLMOD / OpenBLAS: sets OpenMP and
-   OpenBLAS thread counts (nthreads <= 0: the default, 1). CHOLMOD's OpenMP
-   teams of fixed size are capped only by OMP_THREAD_LIMIT at start-up: tools
-   call aug_tool_threads (lib/cli/aug_tool.h), which sees to that first. */
+/* Threading for every tool that calls CHOLMOD / OpenBLAS: OpenBLAS gets
+   nthreads threads (<= 0: the default, 1), OpenMP (CHOLMOD's assembly loops)
+   a team of 1, so that the two never wait on each other's spinning threads
+   (lib/fem/threads.c). CHOLMOD's fixed OpenMP teams are capped only by
+   OMP_THREAD_LIMIT at start-up: tools call aug_tool_threads
+   (lib/cli/aug_tool.h), which sees to that first. */
 void aug_set_threads(int nthreads);
+/* OpenBLAS's thread count for the calls that follow (n < 1: unchanged);
+   returns the count before. */
+int aug_blas_threads(int n);
 /* cholmod_start plus augcut defaults (error handler off: errors via cm->status;
    blocks >= 2 MiB allocated on transparent huge pages). */
 void aug_cholmod_start(cholmod_common *cm);

@@ -434,6 +434,8 @@ typedef struct aug_refactor {
     const void *given;   /* the base aug_refactor_take_base gave its factor to */
     int step_cost;       /* re-order by aug_analyze_steps (a base for AMPS),
                             not CHOLMOD's least fill */
+    int nblas;           /* > 1: OpenBLAS's threads for the factorize, the
+                            count before restored after it (solver.c) */
 } aug_refactor;
 void aug_refactor_init(aug_refactor *r);
 void aug_refactor_free(aug_refactor *r, cholmod_common *cm);

@@ -59,10 +59,11 @@ void aug_progress(const aug_tool *t, long i, long n);
 
 /* Threads of CHOLMOD/OpenBLAS (nthreads <= 0: 1). Call right after option
    parsing, before any input is read: when OMP_THREAD_LIMIT is not set, the
-   tool re-executes itself once with OMP_THREAD_LIMIT=nthreads (libgomp reads
-   it only at start-up, and CHOLMOD's fixed-size OpenMP teams otherwise
-   oversubscribe the cores); an OMP_THREAD_LIMIT set by the user is kept, and
-   under valgrind there is no re-execution (valgrind would lose the child).
+   tool re-executes itself once with OMP_THREAD_LIMIT=1 (libgomp reads it only
+   at start-up, and CHOLMOD's fixed-size OpenMP teams otherwise oversubscribe
+   the cores beside OpenBLAS's threads) and OPENBLAS_NUM_THREADS=nthreads
+   unless set; an OMP_THREAD_LIMIT set by the user is kept, and under valgrind
+   there is no re-execution (valgrind would lose the child).
    Then aug_set_threads(nthreads). Every tool taking --threads calls it. */
 void aug_tool_threads(aug_tool *t, int nthreads);
 

@@ -31,14 +31,19 @@ static int under_valgrind(void)
 
 /* Under valgrind the tool is not re-executed: OpenMP keeps its own thread
    limit (valgrind runs one thread at a time anyway) and only the run-time
-   counts are set. */
+   counts are set. The re-executed tool has OMP_THREAD_LIMIT=1 (CHOLMOD's
+   OpenMP loops on one thread, OpenBLAS on n: lib/fem/threads.c says why)
+   and, unless the user set it, OPENBLAS_NUM_THREADS=n: OpenBLAS starts its
+   worker threads when it is loaded, from that or the core count, and one
+   started for nothing spins for ~0.1 s before it sleeps. */
 void aug_tool_threads(aug_tool *t, int nthreads)
 {
     int n = nthreads > 0 ? nthreads : 1;
     if (!getenv("OMP_THREAD_LIMIT") && !under_valgrind()) {
         char s[16];
         snprintf(s, sizeof s, "%d", n);
-        if (setenv("OMP_THREAD_LIMIT", s, 1) == 0) {
+        if ((getenv("OPENBLAS_NUM_THREADS") || setenv("OPENBLAS_NUM_THREADS", s, 1) == 0) &&
+            setenv("OMP_THREAD_LIMIT", "1", 1) == 0) {
             fflush(NULL);
             execv("/proc/self/exe", t->argv); /* returns only on failure: go on */
         }

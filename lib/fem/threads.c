@@ -6,20 +6,32 @@
 #include "aug_fem.h"
 
 extern void openblas_set_num_threads(int);
+extern int openblas_get_num_threads(void);
 extern void omp_set_num_threads(int);
 extern void omp_set_dynamic(int);
 
-/* nthreads <= 0 means 1. OpenBLAS gets exactly n threads and OpenMP n as its
-   default team size. CHOLMOD's supernodal kernels (Debian's build) ask for a
-   fixed team through a num_threads clause that only OMP_THREAD_LIMIT caps, and
-   libgomp reads that once at start-up: tools re-execute themselves with it set
-   (aug_tool_threads in lib/cli). */
+/* nthreads <= 0 means 1. OpenBLAS gets n threads, OpenMP a team of 1.
+   CHOLMOD's OpenMP loops (Debian's build: the assembly of a supernode, with
+   a fixed team from a num_threads clause that only OMP_THREAD_LIMIT caps,
+   read once at start-up: tools re-execute themselves with it set, lib/cli
+   aug_tool_threads) run between the BLAS calls, whose OpenBLAS threads spin
+   (sched_yield) while they wait for work: with both at 2 on this 2-core
+   machine class the brain's numeric factorization took 2.7-3.4 s against
+   0.72-0.80 s on one thread, with the OpenMP team at 1 and OpenBLAS at 2
+   0.70-0.75 s (bin/factor --threads 2, 2026-12-07). */
 void aug_set_threads(int nthreads)
 {
     int n = nthreads > 0 ? nthreads : 1;
     omp_set_dynamic(0);
-    omp_set_num_threads(n);
+    omp_set_num_threads(1);
     openblas_set_num_threads(n);
+}
+
+int aug_blas_threads(int n)
+{
+    int prev = openblas_get_num_threads();
+    if (n >= 1 && n != prev) openblas_set_num_threads(n);
+    return prev;
 }
 
 /* Blocks of 2 MiB and more are 2 MiB aligned and advised as transparent huge

@@ -200,7 +200,9 @@ static int factor_step(aug_refactor *r, cholmod_sparse *K, double times[4], chol
         r->analyzed = 1;
     }
     double t2 = 1e3 * aug_now();
+    int nb = r->nblas > 1 ? aug_blas_threads(r->nblas) : 0;
     int ok = cholmod_factorize(K, r->L, cm);
+    if (nb) aug_blas_threads(nb);
     times[1] = t2 - t1, times[2] = 1e3 * aug_now() - t2;
     if (!ok && cm->status != CHOLMOD_NOT_POSDEF)
         return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "cholmod_factorize failed (%d)", cm->status);

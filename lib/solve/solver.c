@@ -88,6 +88,7 @@ struct aug_solver {
     aug_refactor au_rf;
     int au_swapped;      /* the background factor became the base this step */
     aug_par *par;        /* --threads >= 2: the two-core L^-T of AMPS (aug_par.h) */
+    int nblas;           /* OpenBLAS's threads outside the steps (0: not lowered) */
     int64_t nstep;       /* steps taken (aug_solver_step calls), this one included */
     int32_t plan_last;   /* the stream's last cut step (pLAN), 0: unknown */
     double *ue;          /* keep_blocks: the step's E with its unit block kept */
@@ -145,6 +146,16 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     double tb0 = 1e3 * aug_now();
     s->base = aug_base_new(L0, K0, f0, -1, cm, e);
     if (s->base && s->par) aug_base_split(s->base);
+    /* With a pool, the steps' BLAS calls (the memo, S2, small dense solves)
+       run on one OpenBLAS thread: a second one would spin (sched_yield)
+       between calls on the core the pool's worker needs (the brain of
+       bench/organs.sh, 64 one-node AMPS steps at --threads 2: 46 ms median
+       with OpenBLAS at 2, 22-25 ms with it at 1); the re-factorizations
+       (aug_refactor nblas) take the threads back for their factorize. */
+    if (s->par) {
+        s->nblas = aug_blas_threads(1);
+        s->rf.nblas = s->chk.nblas = s->amps_fb.nblas = s->au_rf.nblas = s->nblas;
+    }
     double t_base0 = 1e3 * aug_now() - tb0;
     if (!s->base || aug_cum_init(&s->cum, s->base->n, e)) goto fail;
     if (s->use[AUG_M_AUTO] && (s->use[AUG_M_AMPS] || s->use[AUG_M_GMRES])) {
@@ -204,6 +215,7 @@ void aug_solver_free(aug_solver *s)
     if (!s) return;
     aug_bg_free(s->bg);
     aug_par_free(s->par);
+    if (s->nblas > 1) aug_blas_threads(s->nblas);
     aug_amps_free(&s->amps);
     aug_gmres_free(s->gm);
     aug_refactor_free(&s->rf, s->cm);
