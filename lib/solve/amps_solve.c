@@ -93,6 +93,7 @@ void aug_amps_free(aug_amps *a)
     free(a->lset);
     hcorr_free(a->hc);
     free(a->hcl);
+    free(a->xref), free(a->xr), free(a->rref), free(a->kref);
     memset(a, 0, sizeof *a);
 }
 
@@ -323,8 +324,9 @@ static int64_t closure2(const aug_base *b, int64_t nb, const int32_t *i1, int64_
    base's factor, which scales with the solution; the base's own solve
    a_b = K_b^-1 f_b shows its size, so that part is about
    ||f_b - K_b a_b|| ||x_t|| / (||a_b|| ||f_t||), x_t from the base DOFs of
-   the field y (permuted), else xn when finite (the last full field of this
-   base, when the field's L^-T is deferred), else ||a_b|| (an output set).
+   the field y (permuted) and the step's offsets (a_b, or a reference field:
+   ref_setup), else xn when finite (the last full field of this base, when
+   the field's L^-T is deferred), else ||a_b|| (an output set).
    Times floor_k; 0 when the base has no residual or floor_k is 0. */
 static double relres_floor(const aug_amps *a, const aug_base *b, const aug_cum *c, const double *y,
                            double xn, double fnorm)
@@ -333,7 +335,7 @@ static double relres_floor(const aug_amps *a, const aug_base *b, const aug_cum *
     double xx = 0;
     if (y)
         for (int64_t i = 0; i < c->nb; i++) {
-            double v = b->a[i] + y[b->pinv[i]];
+            double v = a->ab_cur[i] + y[b->pinv[i]];
             xx += v * v;
         }
     xn = y ? sqrt(xx) : isfinite(xn) ? xn : b->anorm;
@@ -382,7 +384,7 @@ static void unit_rows(const aug_amps *a, const aug_cum *c, const int32_t *set, i
    fresh factorization's relres falls from 2.6e-10 to 1.3e-11, AMPS's stays
    at 1.6e-10 with relres_h at 3e-13, 12-18x refactor's. cancel tells the
    refinement gate (solver.c, refine) that the step's relres must be
-   measured. */
+   measured. With a reference field (ref_setup) xref stands for a_b. */
 static void field_norms(aug_amps *a, const aug_base *b, const aug_cum *c, const double *y,
                         double fnorm)
 {
@@ -391,10 +393,11 @@ static void field_norms(aug_amps *a, const aug_base *b, const aug_cum *c, const 
        cancellation that no row outside S carries) */
     double xx = 0, yy = 0, aa = 0;
     const aug_cutmat *kt = a->kt;
+    const double *ab = a->ab_cur;
     for (int64_t i = 0; i < c->nb; i++) {
         if (kt && aug_cutmat_unit(kt, i)) continue;
-        double yi = y[b->pinv[i]], v = b->a[i] + yi;
-        xx += v * v, yy += yi * yi, aa += b->a[i] * b->a[i];
+        double yi = y[b->pinv[i]], v = ab[i] + yi;
+        xx += v * v, yy += yi * yi, aa += ab[i] * ab[i];
     }
     a->xnorm = sqrt(xx), a->xnorm_b = b;
     a->cancel = a->xnorm > 0 ? (sqrt(aa) + sqrt(yy)) / a->xnorm : aa + yy > 0 ? INFINITY : 1;
@@ -491,7 +494,7 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     for (int64_t aq = 0; aq < na; aq++) h->qa[s->A[aq]] = (int32_t)aq;
     /* xt: the field on the pattern, base DOFs from y, then the increments */
     for (int64_t t = 0; t < np; t++)
-        if (h->pat[t] < c->nb) h->xt[h->pat[t]] = b->a[h->pat[t]] + y[b->pinv[h->pat[t]]];
+        if (h->pat[t] < c->nb) h->xt[h->pat[t]] = a->ab_cur[h->pat[t]] + y[b->pinv[h->pat[t]]];
     double *yd = h->yd, prev = INFINITY, prev_rs = NAN, fnorm = aug_cutmat_fnorm(a->kt);
     /* deferred: ||x_t|| from this base's last full field, if any */
     double xn = defer && a->xnorm_b == (const void *)b ? a->xnorm : NAN;
@@ -502,7 +505,7 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
             int32_t i = h->pat[t];
             if (i >= c->nb) {
                 int32_t p = c->pos[i], aq = h->qa[p];
-                h->xt[i] = aq >= 0 ? x[aq] : c->dF[p] + dw[p];
+                h->xt[i] = (a->xnew_cur ? a->xnew_cur[i] : 0) + (aq >= 0 ? x[aq] : a->dF_cur[p] + dw[p]);
             }
         }
         aug_cutmat_rows_residual(a->kt, c->S, ns, h->xt, h->r, h->ka);
@@ -582,6 +585,69 @@ static int field_corrected(aug_amps *a, const aug_base *b, const aug_cum *c, con
     return rc;
 }
 
+/* A reference field (issue 15 item 1). AMPS's field is [a_b; 0] +
+   Kbar^-1 P_S w (eq. 3.20): the rows outside S carry the rounding of a_b and
+   of the back-substitution of w's field y, each the size of the base's
+   solution. Where a cut undoes much of the base's displacement (a limb cut
+   loose, a heavy piece dropped) x_t is far smaller than both and the two
+   cancel (field_norms, cancel): the relres then stays at the size of a_b's
+   rounding, not x_t's, and the gate of solver.c measures it and refines,
+   a full solve on every later step (the soft armadillo, oblique plane, 64
+   one-node steps: 30 refined, cancel up to 44). Once a step was refined,
+   its field xref satisfies every row to a fresh solve's rounding at the size
+   of x_t; the later steps on the base take x_t = xref + delta, K_t delta =
+   r = f_t - K_t xref. r lives on the rows of S (outside them K_t and f_t are
+   those of the base, which xref satisfies), so delta is AMPS's solution
+   with the load r on S and no base part (a_b of a zero load is 0): the same
+   S2, memo and back-substitution, now of delta, whose rounding scales with
+   the step's change, not with a_b. The correction on H then works on
+   delta's residual as on any step's. */
+static int ref_setup(aug_amps *a, const aug_base *b, const aug_cum *c)
+{
+    a->ref_used = 0;
+    a->ab_cur = b->a, a->dF_cur = c->dF, a->xnew_cur = NULL;
+    if (!a->xref || a->xref_b != (const void *)b || !a->kt || a->nref > c->n || a->nref < c->nb) return 0;
+    if (a->xrcap < c->n) {
+        free(a->xr);
+        a->xr = aug_malloc((size_t)c->n * sizeof *a->xr);
+        a->xrcap = a->xr ? c->n : 0;
+        if (!a->xr) return -1;
+    }
+    if (a->rrcap < c->ns + 1) {
+        free(a->rref), free(a->kref);
+        a->rref = aug_malloc((size_t)(c->ns + 1) * sizeof *a->rref);
+        a->kref = aug_malloc((size_t)(c->ns + 1) * sizeof *a->kref);
+        a->rrcap = a->rref && a->kref ? c->ns + 1 : 0;
+        if (!a->rrcap) return -1;
+    }
+    memcpy(a->xr, a->xref, (size_t)a->nref * sizeof *a->xr);
+    for (int64_t i = a->nref; i < c->n; i++) a->xr[i] = 0;
+    aug_cutmat_rows_residual(a->kt, c->S, c->ns, a->xr, a->rref, a->kref);
+    /* a kept block's unit row is not solved through the base (solver.c
+       keep_blocks): its value stays xref's (unit_rows sets it anyway) */
+    for (int64_t p = 0; p < c->ns; p++)
+        if (c->keep[p]) a->rref[p] = 0;
+    a->ab_cur = a->xr, a->dF_cur = a->rref, a->xnew_cur = a->xr;
+    a->ref_used = 1;
+    return 0;
+}
+
+int aug_amps_set_ref(aug_amps *a, const aug_base *b, const double *x, int64_t n)
+{
+    if (a->refcap < n) {
+        free(a->xref);
+        a->xref = aug_malloc((size_t)(n > 0 ? n : 1) * sizeof *a->xref);
+        a->refcap = a->xref ? n : 0;
+        if (!a->xref) {
+            a->nref = 0, a->xref_b = NULL;
+            return -1;
+        }
+    }
+    memcpy(a->xref, x, (size_t)n * sizeof *x);
+    a->nref = n, a->xref_b = b;
+    return 0;
+}
+
 /* the step's pivot: S2 or ALT as asked; AUTO keeps the last one used unless
    its backward error on H before correction (berr_h0) exceeded 16 BERR_OK
    and the other pivot's, when it was last used, was lower (never used: taken
@@ -639,23 +705,26 @@ int aug_amps_field(aug_amps *a, const aug_base *b, const aug_cum *c, const int32
     const aug_memo *M = &a->memo;
     const aug_schur *s = &a->schur;
     double *x = a->x, *wp = a->w, *y = a->y;
+    if (ref_setup(a, b, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    const double *dF = a->dF_cur, *ab = a->ab_cur, *xn = a->xnew_cur;
     /* rhs (eq. 3.21 with f_t = [f_b; 0] + P_S dF): on base DOFs
-       H'a_b + H'K^-1H dF_H, on new DOFs dF */
+       H'a_b + H'K^-1H dF_H, on new DOFs dF (from a reference field: f_t =
+       0 + P_S r, r = f_t - K_t xref, so no H'a_b) */
     for (int64_t aq = 0; aq < s->na; aq++) {
         int32_t p = s->A[aq];
         if (c->S[p] >= c->nb) {
-            x[aq] = c->dF[p];
+            x[aq] = dF[p];
             continue;
         }
         const double *Gp = M->G + (int64_t)M->cpos[p] * M->mcap;
-        double v = b->a[c->S[p]];
-        for (int64_t j = 0; j < M->m; j++) v += Gp[j] * c->dF[M->col[j]];
+        double v = a->ref_used ? 0 : b->a[c->S[p]];
+        for (int64_t j = 0; j < M->m; j++) v += Gp[j] * dF[M->col[j]];
         x[aq] = v;
     }
-    if (lo_times(a, b, c, c->dF, x)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+    if (lo_times(a, b, c, dF, x)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     /* a2 = S2^-1 rhs (or eqs. 3.16-3.17's pivot), wp = dF + Ebar a2;
        eq. 3.20: a = a_b + K^-1 H wp off A */
-    pivot_solve(a, c, x, c->dF, wp);
+    pivot_solve(a, c, x, dF, wp);
     double *dw = a->w + a->xcap; /* the correction's sum of w increments */
     int fc = field_corrected(a, b, c, out, nout, x, wp, dw, cm);
     if (fc == -1) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
@@ -669,11 +738,13 @@ int aug_amps_field(aug_amps *a, const aug_base *b, const aug_cum *c, const int32
            from a2: the rows of K_t across the cut then see one consistent
            field (a2 and the back-substituted value differ by the rounding of
            H'K^-1H, amplified by ||K||) */
-        if (i < c->nb) u[i] = b->a[i] + y[b->pinv[i]];
-        else if (!s->act[p]) u[i] = c->dF[p] + dw[p];
+        if (i < c->nb) u[i] = ab[i] + y[b->pinv[i]];
+        else if (!s->act[p]) u[i] = (xn ? xn[i] : 0) + dF[p] + dw[p];
     }
-    for (int64_t aq = 0; aq < s->na; aq++)
-        if (c->S[s->A[aq]] >= c->nb) u[c->S[s->A[aq]]] = x[aq];
+    for (int64_t aq = 0; aq < s->na; aq++) {
+        int64_t i = c->S[s->A[aq]];
+        if (i >= c->nb) u[i] = (xn ? xn[i] : 0) + x[aq];
+    }
     unit_rows(a, c, out, nout, NULL, u);
     a->closure_v = 0;
     for (int64_t j = 0; j < M->m; j++)

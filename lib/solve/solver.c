@@ -458,6 +458,7 @@ static void amps_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
         put(st, "relres_h0", a->relres_h0), put(st, "relres_h", a->relres_h);
         put(st, "relres_floor", a->relres_floor);
         if (!isnan(a->cancel)) put(st, "cancel", a->cancel);
+        if (a->ref_used) put(st, "ref_step", a->xref_step);
         put(tm, "correct_ms", a->t_correct);
     }
     put(st, "pivot", a->pivot_used);
@@ -849,6 +850,15 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
         double tr = 1e3 * aug_now();
         if ((nref = refine(s, op, NULL, r.x, &rref, e)) < 0) return e->code;
         if (nref) put(tm, "refine", 1e3 * aug_now() - tr);
+        /* a refined AMPS field becomes the reference of the base's later
+           steps (amps_solve.c, ref_setup): they solve for their change from
+           it, whose rounding does not carry the cancellation that made this
+           step refine; not with --amps-correct 0, the raw steps */
+        int on_amps = m == AUG_M_AMPS || (m == AUG_M_AUTO && s->au.choice == AUG_AUTO_AMPS);
+        if (nref > 0 && on_amps && s->o.amps_correct > 0 && !s->amps_fb_ok && !s->o.dynamic && isfinite(rref) &&
+            aug_amps_set_ref(&s->amps, s->base, r.x, n))
+            return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
+        if (nref > 0 && on_amps && s->amps.xref) s->amps.xref_step = s->step;
     }
     double total = 1e3 * aug_now() - t0;
     if (m == AUG_M_AUTO && r.ran) aug_auto_observe(&s->au, total, s->amps.schur.flops, s->amps.schur.na);
