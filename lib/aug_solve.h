@@ -354,15 +354,16 @@ typedef struct aug_amps {
     double floor_end;    /* relres_floor with this step's ||x_t|| (full field) */
     /* the reference field (aug_amps_set_ref): a step's field is xref + delta,
        delta = K_t^-1 (f_t - K_t xref) through the same S2 and memo */
-    double *xref;        /* a refined full field of this base, nref DOFs */
+    double *xref;        /* a refined full field of this base, nref DOFs (the
+                            DOFs added since at 0, extended in place) */
     int64_t nref, refcap;
     const void *xref_b;  /* ... of this base */
     int32_t xref_step;   /* ... and its step (the caller's number, stat ref_step) */
-    double *xr, *rref, *kref; /* xref over today's DOFs; its residual and |K||x| on S */
-    int64_t xrcap, rrcap;
+    double *rref, *kref; /* xref's residual and |K||x| on the rows of S */
+    int64_t rrcap;
     int ref_used;        /* the last field was xref + delta */
-    const double *ab_cur, *dF_cur, *xnew_cur; /* the field's offsets (b->a, or xr) and
-                            load on S (c->dF, or rref) in aug_amps_field */
+    const double *ab_cur, *dF_cur, *xnew_cur; /* the field's offsets (b->a, or xref)
+                            and load on S (c->dF, or rref) in aug_amps_field */
 } aug_amps;
 
 /* Schur pivots of AMPS (paper 001): S2 of eq. 3.8, the (1,2) block of S1 as
@@ -388,11 +389,11 @@ int aug_amps_field(aug_amps *a, const aug_base *b, const aug_cum *c, const int32
    of a dynamic step). */
 int aug_amps_prepare(aug_amps *a, const aug_base *b, const aug_cum *c, double rcond_min,
                      double times[3], cholmod_common *cm, aug_err *e);
-/* Keep the full field x (n DOFs) of a step on base b, refined to a fresh
+/* Keep the full field x (n DOFs) of step step on base b, refined to a fresh
    solve's residual, as the reference of the later steps on b: their field
    is x + delta (amps_solve.c, aug_amps_field). 0, or -1 (memory: no
    reference kept). */
-int aug_amps_set_ref(aug_amps *a, const aug_base *b, const double *x, int64_t n);
+int aug_amps_set_ref(aug_amps *a, const aug_base *b, const double *x, int64_t n, int32_t step);
 /* Solve K_t x = r for a general r with the current factorization (used by
    iterative refinement and by the frames of a dynamic step; full vectors). */
 int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,

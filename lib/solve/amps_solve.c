@@ -93,7 +93,7 @@ void aug_amps_free(aug_amps *a)
     free(a->lset);
     hcorr_free(a->hc);
     free(a->hcl);
-    free(a->xref), free(a->xr), free(a->rref), free(a->kref);
+    free(a->xref), free(a->rref), free(a->kref);
     memset(a, 0, sizeof *a);
 }
 
@@ -607,12 +607,12 @@ static int ref_setup(aug_amps *a, const aug_base *b, const aug_cum *c)
     a->ref_used = 0;
     a->ab_cur = b->a, a->dF_cur = c->dF, a->xnew_cur = NULL;
     if (!a->xref || a->xref_b != (const void *)b || !a->kt || a->nref > c->n || a->nref < c->nb) return 0;
-    if (a->xrcap < c->n) {
-        free(a->xr);
-        a->xr = aug_malloc((size_t)c->n * sizeof *a->xr);
-        a->xrcap = a->xr ? c->n : 0;
-        if (!a->xr) return -1;
+    if (a->refcap < c->n) { /* the DOFs added since the reference take 0 */
+        double *x = aug_realloc(a->xref, (size_t)c->n * sizeof *x);
+        if (!x) return -1;
+        a->xref = x, a->refcap = c->n;
     }
+    for (; a->nref < c->n; a->nref++) a->xref[a->nref] = 0;
     if (a->rrcap < c->ns + 1) {
         free(a->rref), free(a->kref);
         a->rref = aug_malloc((size_t)(c->ns + 1) * sizeof *a->rref);
@@ -620,19 +620,17 @@ static int ref_setup(aug_amps *a, const aug_base *b, const aug_cum *c)
         a->rrcap = a->rref && a->kref ? c->ns + 1 : 0;
         if (!a->rrcap) return -1;
     }
-    memcpy(a->xr, a->xref, (size_t)a->nref * sizeof *a->xr);
-    for (int64_t i = a->nref; i < c->n; i++) a->xr[i] = 0;
-    aug_cutmat_rows_residual(a->kt, c->S, c->ns, a->xr, a->rref, a->kref);
+    aug_cutmat_rows_residual(a->kt, c->S, c->ns, a->xref, a->rref, a->kref);
     /* a kept block's unit row is not solved through the base (solver.c
        keep_blocks): its value stays xref's (unit_rows sets it anyway) */
     for (int64_t p = 0; p < c->ns; p++)
         if (c->keep[p]) a->rref[p] = 0;
-    a->ab_cur = a->xr, a->dF_cur = a->rref, a->xnew_cur = a->xr;
+    a->ab_cur = a->xref, a->dF_cur = a->rref, a->xnew_cur = a->xref;
     a->ref_used = 1;
     return 0;
 }
 
-int aug_amps_set_ref(aug_amps *a, const aug_base *b, const double *x, int64_t n)
+int aug_amps_set_ref(aug_amps *a, const aug_base *b, const double *x, int64_t n, int32_t step)
 {
     if (a->refcap < n) {
         free(a->xref);
@@ -644,7 +642,7 @@ int aug_amps_set_ref(aug_amps *a, const aug_base *b, const double *x, int64_t n)
         }
     }
     memcpy(a->xref, x, (size_t)n * sizeof *x);
-    a->nref = n, a->xref_b = b;
+    a->nref = n, a->xref_b = b, a->xref_step = step;
     return 0;
 }
 

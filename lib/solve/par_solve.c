@@ -12,8 +12,6 @@
 #include "aug_par.h"
 #include "aug_solve.h"
 
-extern int openblas_get_num_threads(void);
-extern void openblas_set_num_threads(int);
 
 /* x1 := L1^-T (x1 - L2' x(rows)): supernode s of L' x = b, which reads x only
    on the supernode's rows, its etree ancestors (paper 000 thm 2). pre: its
@@ -141,8 +139,7 @@ static int super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor 
     atomic_init(&j.next, 0);
     /* one BLAS thread inside each worker: a threaded dgemv would split the
        sums differently from the serial solve's */
-    int nblas = openblas_get_num_threads();
-    if (nblas > 1) openblas_set_num_threads(1);
+    int nblas = aug_blas_threads(1);
     if (sys == AUG_PAR_LT) {
         /* the top part first (the ancestors of every task), then the tasks */
         for (int64_t k = pl->ntop - 1; k >= 0; k--) {
@@ -154,7 +151,7 @@ static int super_solve(aug_par *p, const aug_par_plan *pl, const cholmod_factor 
         aug_par_run(p, run_tasks, &j);
         l_top(&j);
     }
-    if (nblas > 1) openblas_set_num_threads(nblas);
+    aug_blas_threads(nblas);
     return 0;
 }
 

@@ -856,9 +856,8 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
            step refine; not with --amps-correct 0, the raw steps */
         int on_amps = m == AUG_M_AMPS || (m == AUG_M_AUTO && s->au.choice == AUG_AUTO_AMPS);
         if (nref > 0 && on_amps && s->o.amps_correct > 0 && !s->amps_fb_ok && !s->o.dynamic && isfinite(rref) &&
-            aug_amps_set_ref(&s->amps, s->base, r.x, n))
+            aug_amps_set_ref(&s->amps, s->base, r.x, n, s->step))
             return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
-        if (nref > 0 && on_amps && s->amps.xref) s->amps.xref_step = s->step;
     }
     double total = 1e3 * aug_now() - t0;
     if (m == AUG_M_AUTO && r.ran) aug_auto_observe(&s->au, total, s->amps.schur.flops, s->amps.schur.na);
