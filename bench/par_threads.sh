@@ -15,7 +15,8 @@
 # bench/out/par_summary.csv (per scene and thread count: median step ms,
 # median full solve ms, their ratio, median rate in Hz; the geometric mean of
 # the per-step speedups, as the paper gives), bench/out/par_brain_rate.png.
-# STEPS may be set (default 64).
+# STEPS may be set (default 64); PREFAULT=MIB (default 0) gives every run
+# --prefault MIB (bench/organs.sh).
 cd "$(dirname "$0")/.." || exit 2
 B=bin; O=bench/out; T=${TMPDIR:-/tmp}/par_threads.$$; mkdir -p $O $T
 trap 'rm -rf $T' EXIT
@@ -52,7 +53,7 @@ scene() {
     while [ $r -le $ROUNDS ]; do
         for th in 1 2; do
             f=$O/par_${name}_t${th}_r$r.csv
-            $B/solve-aug --method amps --time-full --threads $th < $T/c.aug | $B/stats --csv > $f ||
+            $B/solve-aug --method amps --time-full --threads $th --prefault ${PREFAULT:-0} < $T/c.aug | $B/stats --csv > $f ||
                 { echo "par_threads.sh: $name --threads $th failed" >&2; status=1; return 0; }
             files="$files $th:$f"
         done

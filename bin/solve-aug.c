@@ -16,7 +16,7 @@ static const char *synopsis =
     "          [--amps-field solve|memo] [--fail-tol F] [--tol T] [--maxit N]\n"
     "          [--gmres-prec none|D|spai] [--restart N] [--spare N] [--on-singular error|report]\n"
     "          [--reach path|cholmod] [--threads N] [--time-full] [--frames N] [--settle N]\n"
-    "          [--no-reactions] [--pcg-prec none|jacobi|ic|ic-amd] [--cgm-eps E] [--cgm-p P]\n"
+    "          [--no-reactions] [--prefault MIB] [--pcg-prec none|jacobi|ic|ic-amd] [--cgm-eps E] [--cgm-p P]\n"
     "          [--cgm-max-n N] [--ns-tol T] [--ns-maxit N] [-h]";
 
 static const char *help =
@@ -64,6 +64,8 @@ static const char *help =
     "  --time-full          time one full CHOLMOD solve of the base every step\n"
     "                       (full_solve_ms; default: the median of 5 at the start)\n"
     "  --no-reactions       no reaction forces (rEAC) per step\n"
+    "  --prefault MIB       touch MIB MiB of heap before the first step, for the arrays\n"
+    "                       that grow with the steps (default 0; solve-aug(1))\n"
     "  --pcg-prec P         pcg preconditioner: none, jacobi (default), ic (IC(0)) or\n"
     "                       ic-amd (IC(0) on the AMD ordering)\n"
     "  --cgm-eps E          cgm-*: D' = D + E I, AS: COV + E I (default 1e-6)\n"
@@ -80,6 +82,8 @@ typedef struct options {
     int time_full;
     int frames, settle, nframes;
     int no_reactions;
+    int prefault;     /* MiB */
+    double pf_ms;     /* its time, reported once (< 0: reported or none) */
 } options;
 
 static const aug_word precs[] = {
@@ -144,6 +148,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_REAL("--cgm-eps", &so->cgm.eps, 0, 1e300, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
         {AUG_OPT_REAL("--cgm-p", &so->cgm.p, 0, 1e300, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
         {AUG_OPT_INT("--cgm-max-n", &max_n, 1, 46340, "1 to 46340")},
+        {AUG_OPT_INT("--prefault", &o->prefault, 0, 1900, "0 to 1900 (MiB)")},
         {AUG_OPT_REAL("--ns-tol", &so->cgm.ns_tol, 0, 1, "a number in (0, 1)"),
          .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
         {AUG_OPT_INT("--ns-maxit", &so->cgm.ns_maxit, 1, 100000, "1 to 100000")},
@@ -194,13 +199,17 @@ typedef struct dyn {
 } dyn;
 
 /* the solver (and, dynamic, the state) at the first update or settle frame */
-static void start(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
+static void start(aug_tool *t, options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
                   double *full_ms, const aug_rec *rec)
 {
     aug_err e;
     if (!sys->solver) {
         aug_tool_check(t, aug_sys0_solver(sys, rp->started ? rp->nfree0 : -1, &o->so, rec, &e), &e);
         *full_ms = aug_solver_full_solve_ms(sys->solver, 5);
+        /* after the base's own arrays, before the first step's */
+        if (o->prefault && (o->pf_ms = aug_prefault((size_t)o->prefault << 20)) < 0)
+            aug_tool_die(t, "%s: record %ld (%s): out of memory (--prefault %d)", t->inname, rec->index,
+                         rec->type, o->prefault);
     }
     if (!sys->dynamic || dy->started) return;
     if (!(rp->mesh.have & AUG_HAVE_NODE))
@@ -282,10 +291,17 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys,
     }
 }
 
+/* the first tIMe after the prefault carries its time (prefault_ms) */
+static void pf_once(options *o, aug_kv *tm)
+{
+    if (o->pf_ms >= 0 && o->prefault) aug_kv_set(tm, "prefault_ms", o->pf_ms);
+    o->pf_ms = -1;
+}
+
 /* one UPDT: every method solves K_t; the first one's field on the output set
    and the reaction forces (rs, NULL: none), then sTAt and tIMe per method;
    dynamic: the step's frames */
-static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
+static void step(aug_tool *t, options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
                  double *full_ms, const aug_rec *rec, aug_react *rs)
 {
     aug_err e;
@@ -319,7 +335,9 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, d
         for (int i = 0; i < o->so.nmeth; i++) {
             int mth = o->so.order[i];
             aug_tool_check(t, aug_write_kv(t->w, "sTAt", u.step, aug_solver_stat(s, mth), &e), &e);
-            aug_tool_check(t, aug_write_kv(t->w, "tIMe", u.step, aug_solver_time(s, mth), &e), &e);
+            aug_kv tm = *aug_solver_time(s, mth);
+            pf_once(o, &tm);
+            aug_tool_check(t, aug_write_kv(t->w, "tIMe", u.step, &tm, &e), &e);
         }
         frames(t, o, rp, sys, dy, u.step, o->frames, *full_ms, rec, rs);
         aug_update_free(&u);
@@ -337,6 +355,7 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, d
         aug_tool_check(t, aug_write_kv(t->w, "sTAt", u.step, aug_solver_stat(s, mth), &e), &e);
         aug_kv tm = *aug_solver_time(s, mth);
         aug_kv_set(&tm, "full_solve_ms", *full_ms);
+        pf_once(o, &tm);
         aug_tool_check(t, aug_write_kv(t->w, "tIMe", u.step, &tm, &e), &e);
     }
     aug_update_free(&u);

@@ -219,6 +219,10 @@ double *aug_sq_grow(double *a, int64_t cap, int64_t ncap, int64_t keep);
 /* capacity for order need of a square array of capacity cap (>= need, grown
    by a quarter at least, in multiples of 256; AUG_SCHUR_CAP0 at first) */
 int64_t aug_sq_cap(int64_t cap, int64_t need);
+/* bytes of heap touched once and kept by the allocator, for the arrays
+   above to grow into without first-touch page faults (mapped.c says why);
+   milliseconds, or -1 (out of memory) */
+double aug_prefault(size_t bytes);
 
 /* ---- AMPS (paper 001) -------------------------------------------------- */
 

@@ -6,10 +6,15 @@
    left memory already backed, while the first touch of a fresh huge page
    costs milliseconds on this kind of machine (a virtual one: 6 ms each, the
    first AMPS step's memo and S2 spent ~20 ms on theirs). */
+#include <limits.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include "aug_solve.h"
 
 #if defined(__has_feature)
@@ -34,6 +39,14 @@
 /* sizes in whole huge pages: the mappings start on huge-page boundaries, so
    that the kernel can back them with huge pages and move them as such */
 static size_t whole(size_t n) { return (n + HUGE - 1) / HUGE * HUGE; }
+
+/* the largest array taken from the heap: SMALL, or the heap aug_prefault
+   touched; changed only while no array is mapped (aug_map_free tells a
+   heap array from a mapped one by this bound) */
+#if MAPPED
+static size_t heap_max = SMALL;
+static long nmapped;
+#endif
 
 #if MAPPED
 /* a fresh mapping of n bytes (a multiple of HUGE) on a HUGE boundary */
@@ -71,11 +84,12 @@ void *aug_map_grow(void *p, size_t old, size_t n)
     if (old == n) return p;
 #if MAPPED
     void *q;
-    if (n <= SMALL) return heap_grow(p, old, n);
-    if (old && old <= SMALL) { /* from the heap to a mapping: one copy */
+    if (n <= heap_max) return heap_grow(p, old, n);
+    if (old && old <= heap_max) { /* from the heap to a mapping: one copy */
         if (!(q = map_aligned(n))) return NULL;
         memcpy(q, p, old);
         free(p);
+        nmapped++;
     } else if (old && (q = mremap(p, old, n, 0)) != MAP_FAILED) {
         q = p; /* grown in place */
     } else {
@@ -84,6 +98,7 @@ void *aug_map_grow(void *p, size_t old, size_t n)
             munmap(q, n);
             return NULL;
         }
+        if (!old) nmapped++;
     }
 #ifdef MADV_HUGEPAGE
     madvise(q, n, MADV_HUGEPAGE);
@@ -99,8 +114,12 @@ void aug_map_free(void *p, size_t n)
 {
     if (!p) return;
 #if MAPPED
-    if (whole(n ? n : 1) <= SMALL) free(p);
-    else munmap(p, whole(n ? n : 1));
+    if (whole(n ? n : 1) <= heap_max) {
+        free(p);
+    } else {
+        munmap(p, whole(n ? n : 1));
+        nmapped--;
+    }
 #else
     (void)n;
     free(p);
@@ -132,4 +151,40 @@ int64_t aug_sq_cap(int64_t cap, int64_t need)
     int64_t nc = cap ? cap + cap / 4 : AUG_SCHUR_CAP0;
     if (nc < need) nc = need;
     return (nc + 255) / 256 * 256;
+}
+
+/* Real-time practice (the PREEMPT_RT guides: no trimming, no mmap, the heap
+   touched before the loop): bytes of heap are touched once, one write per
+   page, and given back to the allocator, which keeps them (no trimming
+   below them, no mmap below them); the arrays that grow with the steps
+   (the memo's V and G, the LU of S2: aug_map_grow) then come from that heap
+   up to its size. On a virtual machine the first touch of a page costs far
+   more than the work a step does on it (this one: 32 MiB first written in
+   75-110 ms, again in 1.3 ms; 11-14 us per 4 KiB page), and AMPS's arrays
+   grow on every step: on the bunny of bench/organs.sh, 8-node steps, the
+   page faults took ~15% of AMPS's step time. The touch itself costs that
+   much once, before the first step. Returns its milliseconds, or -1 (out
+   of memory: nothing kept). */
+double aug_prefault(size_t bytes)
+{
+    if (!bytes) return 0;
+    double t0 = aug_now();
+#if defined(__GLIBC__)
+    size_t lim = bytes + ((size_t)64 << 20), top = bytes + ((size_t)256 << 20);
+    if (lim > INT_MAX) lim = INT_MAX;
+    if (top > INT_MAX) top = INT_MAX;
+    if (lim > ((size_t)1 << 26)) mallopt(M_MMAP_THRESHOLD, (int)lim);
+    if (top > ((size_t)1 << 28)) mallopt(M_TRIM_THRESHOLD, (int)top);
+#endif
+    long pg = sysconf(_SC_PAGESIZE);
+    size_t step = pg > 0 ? (size_t)pg : 4096;
+    volatile char *p = malloc(bytes);
+    if (!p) return -1;
+    for (size_t o = 0; o < bytes; o += step) p[o] = 1;
+    p[bytes - 1] = 1;
+    free((void *)p);
+#if MAPPED
+    if (!nmapped && whole(bytes) > heap_max) heap_max = whole(bytes);
+#endif
+    return 1e3 * (aug_now() - t0);
 }

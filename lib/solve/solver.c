@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include "aug_solve.h"
 #include "aug_par.h"
 
@@ -822,6 +823,19 @@ static int fallback(aug_solver *s, double *x, double *rr, aug_err *e)
     return *rr <= s->o.fail_tol ? 0 : 1;
 }
 
+/* the minor page faults of the calling thread so far (tIMe minflt: the
+   first touch of memory, which a step that grows arrays pays, mapped.c) */
+static double minflt(void)
+{
+    struct rusage u;
+#ifdef RUSAGE_THREAD
+    if (getrusage(RUSAGE_THREAD, &u)) return NAN;
+#else
+    if (getrusage(RUSAGE_SELF, &u)) return NAN;
+#endif
+    return (double)u.ru_minflt;
+}
+
 /* method m on the step: its solution, refined where it refines, judged
    singular when detached, when its solve says so, or (a direct method) when
    its relres stays above fail_tol; its sTAt and tIMe entries */
@@ -831,7 +845,7 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
     aug_kv *st = &s->stat[m], *tm = &s->time[m];
     int64_t n = s->cut.cum.n;
     step_res r = {.x = s->field[m], .conv = 1, .sing = detached};
-    double t0 = 1e3 * aug_now();
+    double t0 = 1e3 * aug_now(), f0 = minflt();
     int rc;
     aug_kv_init(st, aug_method_names[m]);
     aug_kv_init(tm, aug_method_names[m]);
@@ -891,6 +905,7 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
         put(st, "base_step", s->base->step);
     }
     put(tm, "time_ms", total);
+    put(tm, "minflt", minflt() - f0);
     s->singular[m] = r.sing;
     s->converged[m] = !r.sing && r.conv;
     return 0;
