@@ -58,7 +58,7 @@ static inline __attribute__((always_inline)) void grow_pass(aug_memo *M, const a
     }
 }
 
-/* the new columns in passes of 32, 16 or 8: each pass runs over every
+/* the new columns in passes of 32, 16, 8 or 4: each pass runs over every
    column's suffix once, so wide passes read V and W fewer times (brain, 16
    steps of 8 nodes: 36-87 new columns a step against up to 830). The q loops
    are unrolled so that the QB sums stay in registers, and an AVX2 clone is
@@ -88,7 +88,8 @@ int aug_memo_grow(aug_memo *M, const aug_base *b, aug_err *e)
         int64_t left = M->m - jb, w;
         if (left > 16) w = left < 32 ? left : 32, grow_pass(M, b, row, W, nu, jb, w, 32);
         else if (left > 8) w = left, grow_pass(M, b, row, W, nu, jb, w, 16);
-        else w = left, grow_pass(M, b, row, W, nu, jb, w, 8);
+        else if (left > 4) w = left, grow_pass(M, b, row, W, nu, jb, w, 8);
+        else w = left, grow_pass(M, b, row, W, nu, jb, w, 4);
         jb += w;
     }
     free(row);
