@@ -180,6 +180,8 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     for (int i = 0; i < o->ncon; i++)
         if (o->steps >= 1 && o->con[i].step > o->steps)
             aug_tool_usage(t, "--constrain at step %ld after the last step %ld", o->con[i].step, o->steps);
+    if (o->have_adv && !(o->adv[0] != 0 || o->adv[1] != 0 || o->adv[2] != 0))
+        aug_tool_usage(t, "--advance: the zero vector has no direction");
     aug_err ve;
     if (o->have_view && !o->pathfile) aug_tool_usage(t, "--view needs --path");
     if (o->have_view && o->pull != 0) aug_tool_usage(t, "--view takes no --pull");

@@ -133,7 +133,7 @@ typedef struct aug_scene_spec {
     aug_mat_spec *mat;
     aug_props def;             /* --default-material */
     const char *defarg;
-    int gravity;               /* --gravity given (and well formed) */
+    int gravity;               /* --gravity given (and well formed): its count of numbers, 2 or 3 */
     double g[3];               /* its acceleration, gz = 0 when given two numbers */
     const char *garg;
     const char *output;        /* all (also NULL), surface or a set name */

@@ -141,7 +141,8 @@ static int note_changes(aug_replay *r, const aug_mdelta *d, int64_t ne0)
         r->chg = c;
         r->chgcap = cap;
     }
-    memcpy(r->chg + r->nchg, d->elem, (size_t)d->nmod * sizeof *d->elem);
+    if (d->nmod > 0) /* (a deformation-only step: no element, d->elem NULL) */
+        memcpy(r->chg + r->nchg, d->elem, (size_t)d->nmod * sizeof *d->elem);
     r->nchg += d->nmod;
     for (int64_t i = 0; i < d->nadd; i++) r->chg[r->nchg++] = (int32_t)(ne0 + i);
     return 0;

@@ -98,6 +98,8 @@ static void gravity(const aug_scene_spec *s, aug_mesh *m, aug_sink *k)
     if (!s->gravity) return;
     if (m->dim == 2 && s->g[2] != 0)
         aug_sink_report(k, "--gravity %s: a 2-D mesh takes no z acceleration", s->garg);
+    if (m->dim == 3 && s->gravity == 2)
+        aug_sink_report(k, "--gravity %s: a 3-D mesh takes gx,gy,gz (three numbers)", s->garg);
     if (s->g[0] == 0 && s->g[1] == 0 && s->g[2] == 0) return;
     for (int i = 0; i < m->nmat; i++) {
         int used = 0;

@@ -90,11 +90,12 @@ static void group_name(aug_sink *k, const char *opt, const char *s, size_t len, 
 }
 
 /* two or three comma-separated numbers (the third 0 when absent): 0 or -1 */
+/* 2 or 3 numbers into v (v[2] = 0 when 2): their count, or -1 */
 static int vec3(const char *s, double *v)
 {
     v[2] = 0;
     int n = aug_parse_reals(s, v, 3);
-    return n == 2 || n == 3 ? 0 : -1;
+    return n == 2 || n == 3 ? n : -1;
 }
 
 /* GROUP | box:x0,y0,z0,x1,y1,z1 (lo <= hi) | plane:nx,ny,nz,d[,tol] (n != 0, tol >= 0) */
@@ -140,12 +141,12 @@ static void parse_load(aug_sink *k, const char *s, aug_load_spec *l)
     l->arg = s;
     const char *c = last_colon(k, "--load", s, "GROUP:fx,fy,fz or point:x,y,z:fx,fy,fz");
     if (!c) return;
-    if (vec3(c + 1, l->F)) aug_sink_report(k, "--load %s: the force '%s' is not fx,fy,fz", s, c + 1);
+    if (vec3(c + 1, l->F) < 0) aug_sink_report(k, "--load %s: the force '%s' is not fx,fy,fz", s, c + 1);
     if (strncmp(s, "point:", 6) == 0 && c > s + 5) {
         char buf[256];
         size_t n = (size_t)(c - (s + 6));
         l->point = 1;
-        if (n >= sizeof buf || (memcpy(buf, s + 6, n), buf[n] = 0, vec3(buf, l->p)))
+        if (n >= sizeof buf || (memcpy(buf, s + 6, n), buf[n] = 0, vec3(buf, l->p) < 0))
             aug_sink_report(k, "--load %s: the point is not x,y,z", s);
     } else {
         group_name(k, "--load", s, (size_t)(c - s), l->group);
@@ -191,8 +192,9 @@ int aug_scene_spec_add(aug_scene_spec *s, const char *opt, const char *text, aug
     }
     if (!strcmp(opt, "--gravity")) {
         s->garg = text;
-        if (vec3(text, s->g)) aug_sink_report(k, "--gravity %s: want gx,gy,gz (finite numbers)", text);
-        else s->gravity = 1;
+        int n = vec3(text, s->g);
+        if (n < 0) aug_sink_report(k, "--gravity %s: want gx,gy,gz (finite numbers)", text);
+        else s->gravity = n;
         return 0;
     }
     if (strcmp(opt, "--fix") && strcmp(opt, "--load") && strcmp(opt, "--material"))

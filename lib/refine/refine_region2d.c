@@ -373,7 +373,7 @@ static int recover_routed(reg *g, int32_t la, int32_t lb, const unsigned char *f
         }
         rt[n].u = u, rt[n].v = v, n++;
     }
-    qsort(rt, (size_t)n, sizeof *rt, cmp_routed);
+    if (n > 1) qsort(rt, (size_t)n, sizeof *rt, cmp_routed); /* (rt NULL when none was routed) */
     int rc = 0;
     int32_t from = la;
     for (int32_t k = 0; k <= n && !rc; k++) {

@@ -282,8 +282,10 @@ int aug_work_delta(const aug_work *w, int32_t step, int32_t flags, aug_mdelta *d
         aug_mdelta_free(d);
         return aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
     }
-    memcpy(d->parent, w->parent, (size_t)d->nnew * sizeof *d->parent);
-    memcpy(d->x, w->m.x + w->nn_begin * dim, (size_t)(d->nnew * dim) * sizeof *d->x);
+    if (d->nnew > 0) { /* (no node added: w->parent may be NULL) */
+        memcpy(d->parent, w->parent, (size_t)d->nnew * sizeof *d->parent);
+        memcpy(d->x, w->m.x + w->nn_begin * dim, (size_t)(d->nnew * dim) * sizeof *d->x);
+    }
     /* sort the re-wired elements, keeping their old connectivity alongside */
     for (int64_t i = 0; i < w->nmod; i++) ord[i] = (int64_t)w->mod[i] << 32 | (uint32_t)i;
     qsort(ord, (size_t)w->nmod, sizeof *ord, cmp_mod_i64);
