@@ -251,6 +251,13 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys,
             e.record = rec->index;
             aug_tool_fail(t, &e);
         }
+        if (o->so.check && !aug_replay_all(rp)) { /* err_out on the output set (and reaction DOFs) */
+            const int32_t *out;
+            int64_t nout;
+            aug_tool_check(t, aug_replay_out_dofs(rp, &out, &nout, &e), &e);
+            if (rs) aug_tool_check(t, aug_react_out_dofs(rs, &out, &nout, &e), &e);
+            aug_solver_frame_err_out(s, out, nout);
+        }
         for (int i = 0; i < o->so.nmeth; i++) {
             int mth = o->so.order[i];
             if (aug_solver_frame_singular(s, mth) && (mth == first || !o->on_singular_report))

@@ -792,6 +792,9 @@ int aug_solver_converged(const aug_solver *s, int method);
    (frame, relres, iters, refine, converged, singular, err_direct with
    --check) and tIMe (time_ms) replaced. */
 int aug_solver_frame(aug_solver *s, const double *b, int32_t frame, aug_err *e);
+/* --check, after aug_solver_frame: err_out of every method on the output
+   DOFs out[0..nout) (a frame solves every DOF: the integrator needs them) */
+void aug_solver_frame_err_out(aug_solver *s, const int32_t *out, int64_t nout);
 int aug_solver_frame_singular(const aug_solver *s, int method);
 
 /* ---- time integration of a dynamic stream (dyn_sim.c) ----------------- */

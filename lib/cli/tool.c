@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include "aug_tool.h"
 
@@ -85,6 +86,8 @@ void aug_tool_open_in(aug_tool *t, const char *path)
     if (path && strcmp(path, "-") != 0) {
         t->in = fopen(path, "rb");
         if (!t->in) aug_tool_die(t, "%s: %s", path, strerror(errno));
+        struct stat st; /* a directory opens, then reads as nothing: say what it is */
+        if (fstat(fileno(t->in), &st) == 0 && S_ISDIR(st.st_mode)) aug_tool_die(t, "%s: is a directory", path);
         t->inname = path;
     } else {
         if (isatty(0)) aug_tool_die(t, "-: refusing to read a stream from a terminal");

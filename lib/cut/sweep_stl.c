@@ -1,5 +1,6 @@
 /* STL triangle surfaces (binary and ASCII) into a triangle soup. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,28 +28,83 @@ static int read_binary(const unsigned char *d, size_t n, aug_soup *s, const char
     return 0;
 }
 
-/* ASCII STL: "vertex x y z" lines, three per facet */
+/* the next blank-separated word of *p (NULL at the end of the line), cut
+   off with a NUL; *p moves past it */
+static char *word(char **p)
+{
+    char *q = *p;
+    while (*q == ' ' || *q == '\t' || *q == '\r') q++;
+    if (!*q) return *p = q, NULL;
+    char *w = q;
+    while (*q && *q != ' ' && *q != '\t' && *q != '\r') q++;
+    if (*q) *q++ = 0;
+    *p = q;
+    return w;
+}
+
+/* three finite numbers and nothing after them on the line */
+static int three(char **p, double *v)
+{
+    for (int k = 0; k < 3; k++) {
+        char *w = word(p), *end;
+        if (!w) return -1;
+        v[k] = strtod(w, &end);
+        if (*end || !isfinite(v[k])) return -1;
+    }
+    return word(p) ? -1 : 0;
+}
+
+/* ASCII STL, line by line in its grammar: solid NAME, then per facet
+   "facet normal nx ny nz", "outer loop", three "vertex x y z", "endloop",
+   "endfacet", then "endsolid [NAME]" (more solids may follow). Any other
+   line, text after the numbers, a missing end: an error naming the line. */
 static int read_ascii(char *d, aug_soup *s, const char *path, aug_err *e)
 {
-    double v[9];
-    int nv = 0, line = 1;
-    for (char *p = d; *p; p++) {
-        if (*p == '\n') line++;
-        if (strncmp(p, "vertex", 6) || (p > d && p[-1] != ' ' && p[-1] != '\t' && p[-1] != '\n')) continue;
-        char *q = p + 6;
-        for (int k = 0; k < 3; k++) {
-            char *end;
-            v[3 * nv + k] = strtod(q, &end);
-            if (end == q) return aug_err_set(e, AUG_EUSAGE, -1, "", "%s:%d: a vertex needs three numbers", path, line);
-            q = end;
+    enum { TOP, SOLID, FACET, LOOP, ENDLOOP, ENDED } st = TOP;
+    static const char *want[] = {"solid", "facet normal or endsolid", "outer loop", "vertex or endloop",
+                                 "endfacet", "solid"};
+    double v[9], nrm[3];
+    int nv = 0, line = 0;
+    for (char *p = d; *p;) {
+        char *eol = strchr(p, '\n'), *next = eol ? eol + 1 : p + strlen(p);
+        if (eol) *eol = 0;
+        line++;
+        char *q = p, *w = word(&q);
+        p = next;
+        if (!w) continue; /* a blank line */
+        int ok = 0;
+        if (!strcmp(w, "solid") && (st == TOP || st == ENDED)) {
+            st = SOLID, ok = 1; /* the name: the rest of the line */
+        } else if (!strcmp(w, "endsolid") && st == SOLID) {
+            st = ENDED, ok = 1;
+        } else if (!strcmp(w, "facet") && st == SOLID) {
+            char *w2 = word(&q);
+            ok = w2 && !strcmp(w2, "normal") && !three(&q, nrm);
+            if (!ok)
+                return aug_err_set(e, AUG_EUSAGE, -1, "", "%s:%d: want 'facet normal nx ny nz' (three finite "
+                                   "numbers, nothing after)", path, line);
+            st = FACET;
+        } else if (!strcmp(w, "outer") && st == FACET) {
+            char *w2 = word(&q);
+            ok = w2 && !strcmp(w2, "loop") && !word(&q);
+            st = LOOP, nv = 0;
+        } else if (!strcmp(w, "vertex") && st == LOOP) {
+            if (nv == 3 || three(&q, v + 3 * nv))
+                return aug_err_set(e, AUG_EUSAGE, -1, "", nv == 3 ? "%s:%d: a fourth vertex in a facet"
+                                   : "%s:%d: want 'vertex x y z' (three finite numbers, nothing after)", path, line);
+            nv++, ok = 1;
+        } else if (!strcmp(w, "endloop") && st == LOOP) {
+            if (nv != 3) return aug_err_set(e, AUG_EUSAGE, -1, "", "%s:%d: a facet of %d vertices, want 3", path, line, nv);
+            ok = !word(&q);
+            st = ENDLOOP;
+        } else if (!strcmp(w, "endfacet") && st == ENDLOOP) {
+            ok = !word(&q);
+            if (ok && aug_soup_add(s, v, v + 3, v + 6) < 0) return aug_err_set(e, AUG_ENOMEM, -1, "", "%s: out of memory", path);
+            st = SOLID;
         }
-        p = q - 1;
-        if (++nv == 3) {
-            nv = 0;
-            if (aug_soup_add(s, v, v + 3, v + 6) < 0) return aug_err_set(e, AUG_ENOMEM, -1, "", "%s: out of memory", path);
-        }
+        if (!ok) return aug_err_set(e, AUG_EUSAGE, -1, "", "%s:%d: '%s' where the STL grammar wants %s", path, line, w, want[st]);
     }
-    if (nv) return aug_err_set(e, AUG_EUSAGE, -1, "", "%s: %d vertices left over (three a facet)", path, nv);
+    if (st != ENDED) return aug_err_set(e, AUG_EUSAGE, -1, "", "%s:%d: the file ends before 'endsolid'", path, line);
     return 0;
 }
 

@@ -1003,6 +1003,17 @@ static int direct_ref(aug_solver *s, aug_err *e)
    with an output set (out, the DOFs the step solved) also on those DOFs
    alone (err_out): the rest of an output-set solution is filled in for the
    residual by a wider solve (fill_rest), and err_direct mixes the two */
+/* err_out of method m: its difference to s->ref on the DOFs out[0..nout) */
+static void put_err_out(aug_solver *s, int m, const int32_t *out, int64_t nout, int bad)
+{
+    double d = 0, q = 0;
+    for (int64_t t = 0; t < nout; t++) {
+        double xi = s->field[m][out[t]], ri = s->ref[out[t]];
+        d += (xi - ri) * (xi - ri), q += ri * ri;
+    }
+    put(&s->stat[m], "err_out", bad ? NAN : q > 0 ? sqrt(d / q) : sqrt(d));
+}
+
 static int check_direct(aug_solver *s, const int32_t *out, int64_t nout, aug_err *e)
 {
     int ds = direct_ref(s, e);
@@ -1011,17 +1022,19 @@ static int check_direct(aug_solver *s, const int32_t *out, int64_t nout, aug_err
         int m = s->o.order[oi];
         int bad = ds || s->singular[m];
         put(&s->stat[m], "err_direct", bad ? NAN : reldiff(s->field[m], s->ref, s->cut.cum.n));
-        if (out) {
-            double d = 0, q = 0;
-            for (int64_t t = 0; t < nout; t++) {
-                double xi = s->field[m][out[t]], ri = s->ref[out[t]];
-                d += (xi - ri) * (xi - ri), q += ri * ri;
-            }
-            put(&s->stat[m], "err_out", bad ? NAN : q > 0 ? sqrt(d / q) : sqrt(d));
-        }
+        if (out) put_err_out(s, m, out, nout, bad);
         put(&s->stat[m], "direct_spd", !ds);
     }
     return 0;
+}
+
+void aug_solver_frame_err_out(aug_solver *s, const int32_t *out, int64_t nout)
+{
+    if (!s->o.check) return;
+    for (int oi = 0; oi < s->o.nmeth; oi++) {
+        int m = s->o.order[oi];
+        put_err_out(s, m, out, nout, !s->chk_ok || s->frame_singular[m]);
+    }
 }
 
 /* A dynamic step (aug_solver_opts.dynamic): method m's per-step work for the
