@@ -155,7 +155,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_INT("--steps", &o->steps, 1, 1000000, "a count from 1 to 1000000"), .given = &nsteps},
         {AUG_OPT_INT("--per-step", &o->per_step, 1, LONG_MAX, "a count >= 1")},
         {AUG_OPT_INT("--seed", &o->seed, 0, LONG_MAX, "an integer >= 0")},
-        {AUG_OPT_REAL("--pull", &o->pull, -HUGE_VAL, HUGE_VAL, "a force")},
+        {AUG_OPT_REAL("--pull", &o->pull, -1e12, 1e12, "a force of at most 1e12 in magnitude")},
         {AUG_OPT_REAL("--snap-tol", &o->snap_tol, 0, 0.5, "a number in [0, 0.5)"), .flags = AUG_OPT_HI_OPEN,
          .given = &o->tol_given},
         {AUG_OPT_CHOICE("--mode", &o->mode, modes, "split or snap"), .given = &o->mode_given},

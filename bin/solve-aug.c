@@ -358,9 +358,14 @@ static void step(aug_tool *t, options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy
         return;
     }
     int first = o->so.order[0];
-    if (!aug_solver_singular(s, first) && (rp->mesh.have & AUG_HAVE_NODE))
+    /* formats/stream.md 7.3: a step the first method did not solve (singular,
+       or pcg or gmres not converged) writes no field; cgm-* write the x of
+       their own system whatever its iteration did (their sTAt says how far) */
+    int iter = first == AUG_M_PCG || first == AUG_M_GMRES;
+    int solved = !aug_solver_singular(s, first) && (!iter || aug_solver_converged(s, first));
+    if (solved && (rp->mesh.have & AUG_HAVE_NODE))
         aug_tool_check(t, aug_replay_write_field(t->w, rp, u.step, aug_solver_field(s, first), &e), &e);
-    if (rs && !aug_solver_singular(s, first) && (rp->mesh.have & AUG_HAVE_NODE))
+    if (rs && solved && (rp->mesh.have & AUG_HAVE_NODE))
         aug_tool_check(t, aug_react_write(t->w, rs, u.step, aug_solver_field(s, first), NULL, &e), &e);
     /* the reference a step is compared with, timed next to it (bench) */
     if (o->time_full) *full_ms = aug_solver_full_solve_ms(s, 1);

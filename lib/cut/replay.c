@@ -69,6 +69,8 @@ static int resolve_output(aug_replay *r, aug_err *e)
             if (!*end) break;
             p = end + 1;
         }
+        /* ascending, as fELD's indexed nodes must be (formats/stream.md 7.3) */
+        qsort(nodes, (size_t)n, sizeof *nodes, aug_cmp_i32);
         m->out_kind = AUG_OUT_SET;
         snprintf(m->out_name, sizeof m->out_name, "node");
     } else {

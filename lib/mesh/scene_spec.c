@@ -1,6 +1,7 @@
 /* Scene options as text: meshload's --fix, --material, --default-material, --load and --gravity parsed. */
 #include <stdarg.h>
 #include <stdio.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "aug_scene.h"
@@ -194,6 +195,8 @@ int aug_scene_spec_add(aug_scene_spec *s, const char *opt, const char *text, aug
         s->garg = text;
         int n = vec3(text, s->g);
         if (n < 0) aug_sink_report(k, "--gravity %s: want gx,gy,gz (finite numbers)", text);
+        else if (!(fabs(s->g[0]) <= 1e12 && fabs(s->g[1]) <= 1e12 && fabs(s->g[2]) <= 1e12))
+            aug_sink_report(k, "--gravity %s: a component above 1e12 (GRAV's bound, formats/stream.md 5.8)", text);
         else s->gravity = n;
         return 0;
     }

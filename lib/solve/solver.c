@@ -334,12 +334,34 @@ static int swap_base(aug_solver *s, aug_base *nb, aug_err *e)
     return rc;
 }
 
+/* the power of 2 at or above v (1 for 0 or non-finite v): dividing by it is
+   exact, so a scaled norm has the bits of the unscaled one where that
+   neither underflows nor overflows */
+static double pow2_scale(double v)
+{
+    if (!(v > 0) || !isfinite(v)) return 1;
+    int ex;
+    frexp(v, &ex);
+    return ldexp(1.0, ex);
+}
+
 /* ||x - r||_2 / ||r||_2 (||x - r||_2 when r = 0): err_direct against the fresh solve */
 static double reldiff(const double *x, const double *r, int64_t n)
 {
+    /* scaled by the largest |r_i| and |x_i|: fields of 1e-300 (E = 1e300 Pa)
+       would square to 0 and read as no difference, of 1e200 to inf */
+    double sc = 0;
+    for (int64_t i = 0; i < n; i++) {
+        if (fabs(r[i]) > sc) sc = fabs(r[i]);
+        if (fabs(x[i]) > sc) sc = fabs(x[i]);
+    }
+    sc = pow2_scale(sc);
     double d = 0, q = 0;
-    for (int64_t i = 0; i < n; i++) d += (x[i] - r[i]) * (x[i] - r[i]), q += r[i] * r[i];
-    return q > 0 ? sqrt(d / q) : sqrt(d);
+    for (int64_t i = 0; i < n; i++) {
+        double xi = x[i] / sc, ri = r[i] / sc;
+        d += (xi - ri) * (xi - ri), q += ri * ri;
+    }
+    return q > 0 ? sqrt(d / q) : sc * sqrt(d);
 }
 
 static void put(aug_kv *kv, const char *k, double v) { aug_kv_set(kv, k, v); }
@@ -895,6 +917,11 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
        numerically singular K_t: report it, never the number; a non-finite
        residual (a breakdown) is never a solution of any method */
     if (!r.sing && (((op->flags & M_DIRECT) && !(rr <= s->o.fail_tol)) || !isfinite(rr))) r.sing = 1;
+    /* an iterative method converged only if K_t's residual says so too (its
+       own may be of another scaling: pcg at E = 1e-13 Pa with K_t's unit
+       rows called 0.02 converged); 10x for the two residuals' rounding; not
+       with an output set, whose relres is of a field filled in apart */
+    if (!r.sing && r.conv && q->full && (m == AUG_M_PCG || m == AUG_M_GMRES) && !(rr <= 10 * s->o.tol)) r.conv = 0;
     /* AMPS far above a fresh factorization's residual, refined (AMPS_FAR) */
     int far = !r.sing && !detached && (m == AUG_M_AMPS || (m == AUG_M_AUTO && s->au.choice == AUG_AUTO_AMPS)) &&
               !s->amps_fb_ok && s->amps.floor_end > 0 && rr > AMPS_FAR * s->amps.floor_end;
@@ -1006,12 +1033,18 @@ static int direct_ref(aug_solver *s, aug_err *e)
 /* err_out of method m: its difference to s->ref on the DOFs out[0..nout) */
 static void put_err_out(aug_solver *s, int m, const int32_t *out, int64_t nout, int bad)
 {
+    double sc = 0; /* scaled as in reldiff */
+    for (int64_t t = 0; t < nout; t++) {
+        if (fabs(s->ref[out[t]]) > sc) sc = fabs(s->ref[out[t]]);
+        if (fabs(s->field[m][out[t]]) > sc) sc = fabs(s->field[m][out[t]]);
+    }
+    sc = pow2_scale(sc);
     double d = 0, q = 0;
     for (int64_t t = 0; t < nout; t++) {
-        double xi = s->field[m][out[t]], ri = s->ref[out[t]];
+        double xi = s->field[m][out[t]] / sc, ri = s->ref[out[t]] / sc;
         d += (xi - ri) * (xi - ri), q += ri * ri;
     }
-    put(&s->stat[m], "err_out", bad ? NAN : q > 0 ? sqrt(d / q) : sqrt(d));
+    put(&s->stat[m], "err_out", bad ? NAN : q > 0 ? sqrt(d / q) : sc * sqrt(d));
 }
 
 static int check_direct(aug_solver *s, const int32_t *out, int64_t nout, aug_err *e)
@@ -1112,6 +1145,7 @@ static int frame_method(aug_solver *s, int m, const double *b, int32_t frame, au
     double total = 1e3 * aug_now() - t0;
     if (!sing && (isnan(rr) || m == AUG_M_PCG)) rr = residual(s, b, x, s->tmp);
     if (!sing && (((op->flags & M_DIRECT) && !(rr <= s->o.fail_tol)) || !isfinite(rr))) sing = 1;
+    if (!sing && conv && (m == AUG_M_PCG || m == AUG_M_GMRES) && !(rr <= 10 * s->o.tol)) conv = 0; /* (run_method) */
     put(st, "iters", iters);
     put(st, "refine", nref);
     put(st, "relres", sing ? NAN : rr);
