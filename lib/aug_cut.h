@@ -40,6 +40,9 @@ typedef struct aug_replay {
     int64_t nn0, nfree0;
     int32_t *map0;             /* nn0*dim: index in K0, or -1 (constrained) */
     int32_t last_step;         /* highest step of a per-step record so far (0: none) */
+    int32_t updt_step;         /* step of the last UPDT (0: none) */
+    int32_t delta_lo;          /* lowest step of an MDLT/BDLT since that UPDT (0: none) */
+    long delta_index;          /* its record */
     int32_t plan_first, plan_last; /* the latest pLAN's steps (0: none read) */
     long plan_index;           /* ... and its record index */
     int32_t step_limit;        /* default INT32_MAX */

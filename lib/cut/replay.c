@@ -219,6 +219,33 @@ int aug_replay_plan_end(const aug_replay *r, aug_err *e)
                        (int)r->plan_last, (int)r->last_step);
 }
 
+/* formats/stream.md 7.1: a step's MDLT and BDLT come before its UPDT, each
+   step has one UPDT, and UPDTs come in increasing steps; a step's deltas
+   with no UPDT before a later step's UPDT, an UPDT repeated or one before its
+   deltas are records that disagree (each valid alone: the sweep's streams
+   with step 2's UPDT doubled, step 1's removed, step 1's put before its
+   MDLT were solved as if whole). Streams without UPDT (a mesh cut without a
+   factor) are not concerned. */
+static int steps_agree(aug_replay *r, const aug_rec *rec, aug_err *e)
+{
+    if (!memcmp(rec->type, "UPDT", 4)) {
+        if (r->updt_step > 0 && rec->step <= r->updt_step)
+            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d, but the UPDT of step %d came before it",
+                               (int)rec->step, (int)r->updt_step);
+        if (r->delta_lo > 0 && r->delta_lo < rec->step)
+            return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
+                               "step %d, but step %d's mesh or boundary delta (record %ld) has no UPDT",
+                               (int)rec->step, (int)r->delta_lo, r->delta_index);
+        r->updt_step = rec->step, r->delta_lo = 0;
+    } else if (!memcmp(rec->type, "MDLT", 4) || !memcmp(rec->type, "BDLT", 4)) {
+        if (r->updt_step > 0 && rec->step <= r->updt_step)
+            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d after the UPDT of step %d",
+                               (int)rec->step, (int)r->updt_step);
+        if (!r->delta_lo) r->delta_lo = rec->step, r->delta_index = rec->index;
+    }
+    return 0;
+}
+
 int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
@@ -227,6 +254,7 @@ int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
     if (rt && rt->phase >= 2 && rt->phase <= 3 && aug_replay_start(r, e)) return e->code;
     if (rt && rt->perstep && plan_agrees(r, rec, e)) return e->code;
     if (rt && rt->perstep && rec->step > r->last_step) r->last_step = rec->step;
+    if (steps_agree(r, rec, e)) return e->code;
     if (!memcmp(rec->type, "pLAN", 4)) return add_plan(r, rec, e);
     if (!memcmp(rec->type, "DOFM", 4)) return add_dofm(r, rec, e);
     if (!memcmp(rec->type, "MDLT", 4)) return add_mdlt(r, rec, e);

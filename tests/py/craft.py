@@ -21,6 +21,9 @@ usage: craft.py KIND IN [IN2] > OUT
   unsafe-anc     + ancillary records zQZW (unsafe to copy) and zQZw (safe) after the mesh
   dynp-cm        DYNP with cM changed in its last bits (not the integrator's)
   dynp-nan       DYNP with h = NaN
+  updt-dup       the second UPDT repeated right after itself
+  updt-drop      the first UPDT removed (its step's deltas without an UPDT)
+  updt-early     the first UPDT moved before its step's MDLT
   upkm-drop      every UPKM removed (a dynamic step without its K and M updates)
   upkm-mk        the first UPKM's k increased by one (its UPDT disagrees)
   upkm-asym      the first UPKM's EK(0,1) changed, EK(1,0) not
@@ -219,6 +222,15 @@ def main():
         else:
             struct.pack_into("<d", p, 32, struct.unpack_from("<d", p, 32)[0] * (1 + 1e-12))
         put(recs, i, p)
+    elif kind == "updt-dup":
+        u = [i for i, r in enumerate(recs) if r[0] == "UPDT"]
+        recs.insert(u[1] + 1, recs[u[1]])
+    elif kind == "updt-drop":
+        del recs[first(recs, "UPDT")]
+    elif kind == "updt-early":
+        i = first(recs, "UPDT")
+        r = recs.pop(i)
+        recs.insert(first(recs, "MDLT"), r)
     elif kind == "upkm-drop":
         recs = [r for r in recs if r[0] != "UPKM"]
     elif kind == "upkm-mk":
