@@ -156,6 +156,9 @@ typedef struct aug_bisect_stats {
 /* Is element e bad under o (2-D: aspect > max_aspect or an angle < min_angle,
    and measure / area0 > area_ratio)? */
 int aug_bisect2d_bad(const aug_work *w, int64_t e, const aug_refine_opt *o);
+/* 3-D: tet t above --max-aspect3 or below --min-dihedral (with area_ratio,
+   only when also larger than area_ratio times its original volume) */
+int aug_bisect3d_bad(const aug_work *w, int64_t t, const aug_refine_opt *o);
 /* ACDM (thesis 003 algorithm 1) as longest-edge propagation-path bisection
    (Rivara 1997): every bad triangle among seeds (and every bad triangle the
    bisections create) is refined by bisecting the terminal edge of its LEPP,

@@ -52,7 +52,7 @@ static double tet_aspect(const double *p0, const double *p1, const double *p2, c
 
 /* bad: R / (3 r) > max_aspect3 or least dihedral < min_dihedral; with area_ratio
    > 0 only when also |V| > area_ratio V_0 */
-static int bad3(const aug_work *w, int64_t t, const aug_refine_opt *o)
+int aug_bisect3d_bad(const aug_work *w, int64_t t, const aug_refine_opt *o)
 {
     aug_quality q;
     aug_elem_quality(&w->m, t, &q);
@@ -231,10 +231,10 @@ int aug_bisect3d(aug_work *w, const int64_t *seeds, int64_t nseed, const aug_ref
     c.lev = aug_calloc((size_t)c.caplev, 1);
     if (!c.lev) goto nomem;
     for (int64_t i = 0; i < nseed && o->max_level3 > 0; i++)
-        if (bad3(w, seeds[i], o) && push(&c, seeds[i])) goto nomem;
+        if (aug_bisect3d_bad(w, seeds[i], o) && push(&c, seeds[i])) goto nomem;
     for (int64_t head = 0; head < c.nq; head++) {
         int64_t t = c.q[head] >> 20, ver = c.q[head] & 0xfffff;
-        if ((w->ver[t] & 0xfffff) != ver || c.lev[t] >= o->max_level3 || !bad3(w, t, o)) continue;
+        if ((w->ver[t] & 0xfffff) != ver || c.lev[t] >= o->max_level3 || !aug_bisect3d_bad(w, t, o)) continue;
         if (w->m.nn - w->nn_begin >= cap) {
             st->capped++;
             continue;

@@ -369,7 +369,8 @@ int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *bc, c
     for (int64_t i = 0; i < np; i++) {
         list[i] = i < out->nmod ? out->elem[i] : (int32_t)(W->ne_begin + i - out->nmod);
         la0[i] = W->area0[list[i]];
-        if (dim == 2 ? aug_bisect2d_bad(W, list[i], &r->opt) : 0) q->bad_left++;
+        /* (3-D: bad_left read 0 whatever was left above the bounds) */
+        if (dim == 2 ? aug_bisect2d_bad(W, list[i], &r->opt) : aug_bisect3d_bad(W, list[i], &r->opt)) q->bad_left++;
     }
     qfig(&W->m, list, np, la0, &q->aspect_mean, &q->aspect_max, &q->area_ratio, &q->min_angle);
     q->added = out->nadd;
