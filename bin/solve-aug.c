@@ -158,13 +158,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     so->cgm.max_n = max_n;
     so->horizon = horizon;
     if (nrtol) so->refine_max = so->refine_tol > 0 ? 3 : 0;
-    /* before any input is read (lib/solve/solver.c checks it too) */
-    int has_auto = 0, has_based = 0;
-    for (int i = 0; i < so->nmeth; i++) {
-        has_auto |= so->order[i] == AUG_M_AUTO;
-        has_based |= so->order[i] == AUG_M_AMPS || so->order[i] == AUG_M_GMRES;
-    }
-    if (has_auto && has_based) aug_tool_usage(t, "--method auto re-factors the base of amps and gmres: run it apart");
+    if (aug_solver_opts_conflict(so)) aug_tool_usage(t, "%s", aug_solver_opts_conflict(so)); /* before any input */
     aug_tool_usage_done(t, synopsis);
 }
 

@@ -729,6 +729,10 @@ typedef struct aug_solver_opts {
     int amps_field_memo; /* amps: Kbar^-1 Hbar w by the memo's V (1) or a forward solve (0) */
 } aug_solver_opts;
 void aug_solver_opts_default(aug_solver_opts *o);
+/* the message of a method list that cannot run in one session (auto with
+   amps or gmres: auto re-factors their base), or NULL; the tools check it
+   before reading input, aug_solver_new again */
+const char *aug_solver_opts_conflict(const aug_solver_opts *o);
 
 /* The original system read from a stream (lib/solve/sys0_rec.c): K0, f0 and
    the factor L0 of KMAT/FVEC/FACT, in one cholmod_common that the struct owns,

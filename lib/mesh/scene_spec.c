@@ -90,8 +90,8 @@ static void group_name(aug_sink *k, const char *opt, const char *s, size_t len, 
     }
 }
 
-/* two or three comma-separated numbers (the third 0 when absent): 0 or -1 */
-/* 2 or 3 numbers into v (v[2] = 0 when 2): their count, or -1 */
+/* two or three comma-separated numbers into v (v[2] = 0 when two): their
+   count, or -1 */
 static int vec3(const char *s, double *v)
 {
     v[2] = 0;

@@ -31,6 +31,16 @@ int aug_parse_methods(const char *s, int order[AUG_M_COUNT])
     return n;
 }
 
+const char *aug_solver_opts_conflict(const aug_solver_opts *o)
+{
+    int has_auto = 0, has_based = 0;
+    for (int i = 0; i < o->nmeth; i++) {
+        has_auto |= o->order[i] == AUG_M_AUTO;
+        has_based |= o->order[i] == AUG_M_AMPS || o->order[i] == AUG_M_GMRES;
+    }
+    return has_auto && has_based ? "--method auto re-factors the base of amps and gmres: run it apart" : NULL;
+}
+
 void aug_solver_opts_default(aug_solver_opts *o)
 {
     memset(o, 0, sizeof *o);
@@ -159,8 +169,8 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     }
     double t_base0 = 1e3 * aug_now() - tb0;
     if (!s->base || aug_cum_init(&s->cum, s->base->n, e)) goto fail;
-    if (s->use[AUG_M_AUTO] && (s->use[AUG_M_AMPS] || s->use[AUG_M_GMRES])) {
-        aug_err_set(e, AUG_EUSAGE, -1, "", "--method auto re-factors the base of amps and gmres: run it apart");
+    if (aug_solver_opts_conflict(o)) {
+        aug_err_set(e, AUG_EUSAGE, -1, "", "%s", aug_solver_opts_conflict(o));
         goto fail;
     }
     if (s->use[AUG_M_AUTO]) {
@@ -345,19 +355,22 @@ static double pow2_scale(double v)
     return ldexp(1.0, ex);
 }
 
-/* ||x - r||_2 / ||r||_2 (||x - r||_2 when r = 0): err_direct against the fresh solve */
-static double reldiff(const double *x, const double *r, int64_t n)
+/* ||x - r||_2 / ||r||_2 (||x - r||_2 when r = 0) over the entries idx[0..n)
+   (idx NULL: 0..n-1), err_direct and err_out against the fresh solve; scaled
+   by the largest |r_i| and |x_i|: fields of 1e-300 (E = 1e300 Pa) would
+   square to 0 and read as no difference, of 1e200 to inf */
+static double reldiff(const double *x, const double *r, const int32_t *idx, int64_t n)
 {
-    /* scaled by the largest |r_i| and |x_i|: fields of 1e-300 (E = 1e300 Pa)
-       would square to 0 and read as no difference, of 1e200 to inf */
     double sc = 0;
-    for (int64_t i = 0; i < n; i++) {
+    for (int64_t t = 0; t < n; t++) {
+        int64_t i = idx ? idx[t] : t;
         if (fabs(r[i]) > sc) sc = fabs(r[i]);
         if (fabs(x[i]) > sc) sc = fabs(x[i]);
     }
     sc = pow2_scale(sc);
     double d = 0, q = 0;
-    for (int64_t i = 0; i < n; i++) {
+    for (int64_t t = 0; t < n; t++) {
+        int64_t i = idx ? idx[t] : t;
         double xi = x[i] / sc, ri = r[i] / sc;
         d += (xi - ri) * (xi - ri), q += ri * ri;
     }
@@ -814,12 +827,27 @@ static int refine(aug_solver *s, const method *op, const double *b, double *x, d
     return it;
 }
 
+/* method m's step was an AMPS step (amps, or auto when it chose AMPS) */
+static int on_amps(const aug_solver *s, int m)
+{
+    return m == AUG_M_AMPS || (m == AUG_M_AUTO && s->au.choice == AUG_AUTO_AMPS);
+}
+
+/* an iterative method (pcg, gmres) is converged only where K_t's relres rr
+   says so too (its own may be of another scaling: pcg at E = 1e-13 Pa with
+   K_t's unit rows called 0.02 converged); 10x for the two residuals'
+   rounding */
+static int iter_agrees(const aug_solver *s, int m, double rr)
+{
+    return !(m == AUG_M_PCG || m == AUG_M_GMRES) || rr <= 10 * s->o.tol;
+}
+
 /* a solve on the output set only: the rest of x from the method's whole-vector
    solve (untimed, for the residual), the output-set values kept as solved */
 static int fill_rest(aug_solver *s, int m, const method *op, const step_req *q, double *x, aug_err *e)
 {
     int rc;
-    if ((m == AUG_M_AMPS || (m == AUG_M_AUTO && s->au.choice == AUG_AUTO_AMPS)) && !s->amps_fb_ok) {
+    if (on_amps(s, m) && !s->amps_fb_ok) {
         /* AMPS's rest as its full-field step computes it (eq. 3.20 with the
            correction on H), not by aug_amps_solve_general, which has no
            correction: on the soft armadillo of tests/solve_amps_cancel.test
@@ -902,8 +930,7 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
            steps (amps_solve.c, ref_setup): they solve for their change from
            it, whose rounding does not carry the cancellation that made this
            step refine; not with --amps-correct 0, the raw steps */
-        int on_amps = m == AUG_M_AMPS || (m == AUG_M_AUTO && s->au.choice == AUG_AUTO_AMPS);
-        if (nref > 0 && on_amps && s->o.amps_correct > 0 && !s->amps_fb_ok && !s->o.dynamic && isfinite(rref) &&
+        if (nref > 0 && on_amps(s, m) && s->o.amps_correct > 0 && !s->amps_fb_ok && !s->o.dynamic && isfinite(rref) &&
             aug_amps_set_ref(&s->amps, s->base, r.x, n, s->step))
             return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     }
@@ -917,14 +944,10 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
        numerically singular K_t: report it, never the number; a non-finite
        residual (a breakdown) is never a solution of any method */
     if (!r.sing && (((op->flags & M_DIRECT) && !(rr <= s->o.fail_tol)) || !isfinite(rr))) r.sing = 1;
-    /* an iterative method converged only if K_t's residual says so too (its
-       own may be of another scaling: pcg at E = 1e-13 Pa with K_t's unit
-       rows called 0.02 converged); 10x for the two residuals' rounding; not
-       with an output set, whose relres is of a field filled in apart */
-    if (!r.sing && r.conv && q->full && (m == AUG_M_PCG || m == AUG_M_GMRES) && !(rr <= 10 * s->o.tol)) r.conv = 0;
+    /* not with an output set, whose relres is of a field filled in apart */
+    if (!r.sing && r.conv && q->full && !iter_agrees(s, m, rr)) r.conv = 0;
     /* AMPS far above a fresh factorization's residual, refined (AMPS_FAR) */
-    int far = !r.sing && !detached && (m == AUG_M_AMPS || (m == AUG_M_AUTO && s->au.choice == AUG_AUTO_AMPS)) &&
-              !s->amps_fb_ok && s->amps.floor_end > 0 && rr > AMPS_FAR * s->amps.floor_end;
+    int far = !r.sing && !detached && on_amps(s, m) && !s->amps_fb_ok && s->amps.floor_end > 0 && rr > AMPS_FAR * s->amps.floor_end;
     if (far) r.sing = 1;
     /* AMPS calls K_t singular where S2 is too ill-conditioned (nu -> 0.5):
        a fresh CHOLMOD factorization of K_t decides; when it is positive
@@ -1033,18 +1056,7 @@ static int direct_ref(aug_solver *s, aug_err *e)
 /* err_out of method m: its difference to s->ref on the DOFs out[0..nout) */
 static void put_err_out(aug_solver *s, int m, const int32_t *out, int64_t nout, int bad)
 {
-    double sc = 0; /* scaled as in reldiff */
-    for (int64_t t = 0; t < nout; t++) {
-        if (fabs(s->ref[out[t]]) > sc) sc = fabs(s->ref[out[t]]);
-        if (fabs(s->field[m][out[t]]) > sc) sc = fabs(s->field[m][out[t]]);
-    }
-    sc = pow2_scale(sc);
-    double d = 0, q = 0;
-    for (int64_t t = 0; t < nout; t++) {
-        double xi = s->field[m][out[t]] / sc, ri = s->ref[out[t]] / sc;
-        d += (xi - ri) * (xi - ri), q += ri * ri;
-    }
-    put(&s->stat[m], "err_out", bad ? NAN : q > 0 ? sqrt(d / q) : sc * sqrt(d));
+    put(&s->stat[m], "err_out", bad ? NAN : reldiff(s->field[m], s->ref, out, nout));
 }
 
 static int check_direct(aug_solver *s, const int32_t *out, int64_t nout, aug_err *e)
@@ -1054,7 +1066,7 @@ static int check_direct(aug_solver *s, const int32_t *out, int64_t nout, aug_err
     for (int oi = 0; oi < s->o.nmeth; oi++) {
         int m = s->o.order[oi];
         int bad = ds || s->singular[m];
-        put(&s->stat[m], "err_direct", bad ? NAN : reldiff(s->field[m], s->ref, s->cut.cum.n));
+        put(&s->stat[m], "err_direct", bad ? NAN : reldiff(s->field[m], s->ref, NULL, s->cut.cum.n));
         if (out) put_err_out(s, m, out, nout, bad);
         put(&s->stat[m], "direct_spd", !ds);
     }
@@ -1145,7 +1157,7 @@ static int frame_method(aug_solver *s, int m, const double *b, int32_t frame, au
     double total = 1e3 * aug_now() - t0;
     if (!sing && (isnan(rr) || m == AUG_M_PCG)) rr = residual(s, b, x, s->tmp);
     if (!sing && (((op->flags & M_DIRECT) && !(rr <= s->o.fail_tol)) || !isfinite(rr))) sing = 1;
-    if (!sing && conv && (m == AUG_M_PCG || m == AUG_M_GMRES) && !(rr <= 10 * s->o.tol)) conv = 0; /* (run_method) */
+    if (!sing && conv && !iter_agrees(s, m, rr)) conv = 0;
     put(st, "iters", iters);
     put(st, "refine", nref);
     put(st, "relres", sing ? NAN : rr);
@@ -1176,7 +1188,7 @@ int aug_solver_frame(aug_solver *s, const double *b, int32_t frame, aug_err *e)
     if (s->chk_ok && aug_refactor_solve(&s->chk, b, s->ref, s->cm, e)) return e->code;
     for (int oi = 0; oi < s->o.nmeth; oi++) {
         int m = s->o.order[oi];
-        put(&s->stat[m], "err_direct", !s->chk_ok || s->frame_singular[m] ? NAN : reldiff(s->field[m], s->ref, n));
+        put(&s->stat[m], "err_direct", !s->chk_ok || s->frame_singular[m] ? NAN : reldiff(s->field[m], s->ref, NULL, n));
         put(&s->stat[m], "direct_spd", s->chk_ok);
     }
     return 0;
