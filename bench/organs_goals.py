@@ -18,7 +18,9 @@ come from one run; medians over the steps. Goals (issue 15, "Bench goals"):
                     amps's relres <= 10x refactor's on every step
   auto_1p1          every scene and kind: auto's total time <= 1.1x the best
                     fixed method's total (amps, amps --background, refactor,
-                    rowupdate, pcg: every run but auto*)
+                    rowupdate, pcg: every run but auto*); shown beside it,
+                    not judged: the same ratio with each run's total in
+                    units of that run's median full solve
   auto_1p1_online   the same for autoon (auto --horizon 0: the online rule,
                     the stream's length that cut's pLAN gives auto ignored)
   auto_1p1_bg       the same for autobg (auto --background: the second core
@@ -97,7 +99,11 @@ def goals(runs):
             if a and fixed:
                 best = min(fixed, key=fixed.get)
                 r = total(a) / fixed[best]
-                add(goal, s, k, "%.3gx (best %s)" % (r, best), "<= 1.1x", r <= 1.1)
+                # beside it, each total in its own run's median full solves
+                # (the machine's speed moves 10-30% between runs; judged on r)
+                nf = {m: fixed[m] / med(runs[(s, k, m)], "full_solve_ms") for m in fixed}
+                rn = total(a) / med(a, "full_solve_ms") / min(nf.values())
+                add(goal, s, k, "%.3gx (best %s; %.3gx in full solves)" % (r, best, rn), "<= 1.1x", r <= 1.1)
         if (s in ORGANS or s.startswith("brick_n16") or s.startswith("brick_n20")) and amps and ref:
             r = med(ref, "time_ms") / med(amps, "time_ms")
             add("amps_10x_refactor", s, k, "%.3gx" % r, ">= 10x", r >= 10)

@@ -222,7 +222,7 @@ int main(int argc, char **argv)
         else
             aug_tool_pass(&t, &rec);
     }
-    aug_tool_check(&t, aug_replay_plan_end(&rp, &e), &e);
+    aug_tool_check(&t, aug_replay_end(&rp, &e), &e);
     aug_mesh *m = &rp.mesh;
     if (!(m->have & AUG_HAVE_NODE) || !(m->have & AUG_HAVE_ELEM))
         aug_tool_die(&t, "%s: the stream has no mesh (NODE and ELEM records)", t.inname);

@@ -402,6 +402,7 @@ int main(int argc, char **argv)
             aug_progress(&t, rec.step, 0);
         }
     }
+    aug_tool_check(&t, aug_replay_end(&rp, &e), &e);
     if (!ss.started) start(&t, &o, &rp, &ss, &rec);
     if (o.settle > 0) frames(&t, &o, &rp, &ss, o.settle, &rec);
     aug_tool_close(&t);

@@ -166,6 +166,8 @@ int main(int argc, char **argv)
     while (aug_tool_read(&t, &rec) == 1) {
         const aug_rectype *rt = aug_rectype_find(rec.type);
         if (rt && rt->perstep && rec.step >= 0) {
+            /* the steps' order (formats 7.1), checked as the stream passes */
+            aug_tool_check(&t, aug_replay_steps(&s.rp, &rec, &e), &e);
             if (!s.nbuf && !s.nrun) s.ahead = s.rp.mesh.dim == 3;
             if (s.ahead) {
                 if (!s.nbuf || rec.step != s.step) mark_run(&t, &s);
@@ -181,6 +183,7 @@ int main(int argc, char **argv)
             aug_tool_pass(&t, &rec);
         }
     }
+    aug_tool_check(&t, aug_replay_end(&s.rp, &e), &e);
     flush(&t, &s, &o);
     aug_tool_close(&t);
     aug_rec_free(&rec);

@@ -422,7 +422,7 @@ int main(int argc, char **argv)
         }
         aug_tool_pass(&t, &rec);
     }
-    aug_tool_check(&t, aug_replay_plan_end(&rp, &e), &e);
+    aug_tool_check(&t, aug_replay_end(&rp, &e), &e);
     /* a stream without the original system solves nothing: not a success */
     if (!sys.K0 && !sys.A0)
         aug_tool_die(&t, "%s: no KMAT record: solve-aug needs a factored stream (meshload | factor | ...)",

@@ -120,8 +120,8 @@ static void run_collect(aug_tool *t, const options *o)
             break;
         }
     if (rc < 0) failed = 1;
-    aug_summary_end(s, !failed ? &rec : NULL);
     bad = e;
+    if (aug_summary_end(s, !failed ? &rec : NULL, &e)) failed = 1, bad = e;
     if (o->csv) {
         if (failed) aug_tool_fail(t, &bad);
         aug_tool_check(t, aug_steptab_csv(stdout, aug_summary_steps(s), &e), &e);

@@ -43,6 +43,8 @@ typedef struct aug_replay {
     int32_t updt_step;         /* step of the last UPDT (0: none) */
     int32_t delta_lo;          /* lowest step of an MDLT/BDLT since that UPDT (0: none) */
     long delta_index;          /* its record */
+    char delta_type[5];        /* and its type */
+    int have_kmat;             /* a KMAT passed: every step's deltas need an UPDT */
     int32_t plan_first, plan_last; /* the latest pLAN's steps (0: none read) */
     long plan_index;           /* ... and its record index */
     int32_t step_limit;        /* default INT32_MAX */
@@ -61,8 +63,13 @@ typedef struct aug_replay {
 void aug_replay_init(aug_replay *r);
 void aug_replay_free(aug_replay *r);
 int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e);
-/* At the stream's end: its last step is the latest pLAN's last (when there is one). */
-int aug_replay_plan_end(const aug_replay *r, aug_err *e);
+/* The per-step checks of aug_replay_add alone (a reader that stops replaying,
+   refine after its first step): the step within the latest pLAN, each step's
+   MDLT/BDLT before its one UPDT (formats/stream.md 7.1). */
+int aug_replay_steps(aug_replay *r, const aug_rec *rec, aug_err *e);
+/* At the stream's end: its last step is the latest pLAN's last (when there
+   is one), and no step's delta is left without its UPDT (when there are UPDTs). */
+int aug_replay_end(const aug_replay *r, aug_err *e);
 /* Fix the original mesh now (called by add at the first matrix/step record). */
 int aug_replay_start(aug_replay *r, aug_err *e);
 int64_t aug_replay_index(const aug_replay *r, int64_t node, int c);

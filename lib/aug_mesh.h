@@ -20,6 +20,10 @@
 #define AUG_MAX_EMAT (AUG_MAX_EDOF * AUG_MAX_EDOF)
 
 #define AUG_NAME 64
+/* |coordinate| bound (formats/stream.md 5.1): finite is not enough, an
+   element's measure (l^3) overflows near 1e102; no scene is larger than
+   the observable universe (1e27 m) */
+#define AUG_COORD_MAX 1e30
 
 typedef struct aug_material {
     int32_t id;               /* gmsh physical tag (or user id) */

@@ -119,6 +119,7 @@ typedef struct aug_load_spec { /* --load GROUP:fx,fy,fz | point:x,y,z:fx,fy,fz *
     const char *arg;
     char group[AUG_NAME];
     double p[3], F[3];         /* fz = 0 when given two numbers */
+    int nF, np;                /* the count of numbers given for F and p (2 or 3) */
 } aug_load_spec;
 typedef struct aug_mat_spec {  /* --material GROUP:E=..,nu=..,rho=..,t=.. */
     const char *arg;

@@ -113,8 +113,10 @@ typedef struct aug_summary aug_summary;
 aug_summary *aug_summary_new(const aug_reader *r, int32_t step_limit, aug_err *e);
 void aug_summary_free(aug_summary *s);
 int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e);
-/* Mark the end: rec is the TAIL record (NULL when the stream broke off). */
-void aug_summary_end(aug_summary *s, const aug_rec *tail);
+/* Mark the end: rec is the TAIL record (NULL when the stream broke off).
+   A whole stream is checked as a whole (aug_replay_end: pLAN's last step,
+   no step's delta without its UPDT): 0, or the error in e. */
+int aug_summary_end(aug_summary *s, const aug_rec *tail, aug_err *e);
 int aug_summary_print(FILE *out, aug_summary *s, const char *name, aug_err *e);
 const aug_steptab *aug_summary_steps(const aug_summary *s);
 /* Highest step number seen (-1 when the stream has no per-step record). */

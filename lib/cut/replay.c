@@ -211,9 +211,14 @@ static int plan_agrees(const aug_replay *r, const aug_rec *rec, aug_err *e)
                        r->plan_index, (int)r->plan_first, (int)r->plan_last);
 }
 
-int aug_replay_plan_end(const aug_replay *r, aug_err *e)
+int aug_replay_end(const aug_replay *r, aug_err *e)
 {
     aug_err_clear(e);
+    /* formats/stream.md 7.1: the last step's deltas need their UPDT too
+       (a stream with UPDTs whose last one was dropped ends one step short) */
+    if ((r->updt_step > 0 || r->have_kmat) && r->delta_lo > 0)
+        return aug_err_set(e, AUG_EDATA, r->delta_index, r->delta_type,
+                           "step %d's mesh or boundary delta has no UPDT (the stream ends)", (int)r->delta_lo);
     if (r->plan_last <= 0 || r->last_step == r->plan_last) return 0;
     return aug_err_set(e, AUG_EDATA, r->plan_index, "pLAN", "plans steps to %d, but the stream ends at step %d",
                        (int)r->plan_last, (int)r->last_step);
@@ -241,9 +246,18 @@ static int steps_agree(aug_replay *r, const aug_rec *rec, aug_err *e)
         if (r->updt_step > 0 && rec->step <= r->updt_step)
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d after the UPDT of step %d",
                                (int)rec->step, (int)r->updt_step);
-        if (!r->delta_lo) r->delta_lo = rec->step, r->delta_index = rec->index;
+        if (!r->delta_lo) r->delta_lo = rec->step, r->delta_index = rec->index, memcpy(r->delta_type, rec->type, 4);
     }
     return 0;
+}
+
+int aug_replay_steps(aug_replay *r, const aug_rec *rec, aug_err *e)
+{
+    aug_err_clear(e);
+    const aug_rectype *rt = aug_rectype_find(rec->type);
+    if (rt && rt->perstep && plan_agrees(r, rec, e)) return e->code;
+    if (rt && rt->perstep && rec->step > r->last_step) r->last_step = rec->step;
+    return steps_agree(r, rec, e);
 }
 
 int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
@@ -252,9 +266,8 @@ int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
     if (aug_mesh_is_record(rec->type)) return aug_mesh_absorb(&r->mesh, rec, e);
     const aug_rectype *rt = aug_rectype_find(rec->type);
     if (rt && rt->phase >= 2 && rt->phase <= 3 && aug_replay_start(r, e)) return e->code;
-    if (rt && rt->perstep && plan_agrees(r, rec, e)) return e->code;
-    if (rt && rt->perstep && rec->step > r->last_step) r->last_step = rec->step;
-    if (steps_agree(r, rec, e)) return e->code;
+    if (aug_replay_steps(r, rec, e)) return e->code;
+    if (!memcmp(rec->type, "KMAT", 4)) r->have_kmat = 1;
     if (!memcmp(rec->type, "pLAN", 4)) return add_plan(r, rec, e);
     if (!memcmp(rec->type, "DOFM", 4)) return add_dofm(r, rec, e);
     if (!memcmp(rec->type, "MDLT", 4)) return add_mdlt(r, rec, e);

@@ -146,6 +146,10 @@ static int import_nodes(const aug_tagged *t, work *w, aug_mesh *m, aug_err *e)
         if (!isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2]))
             return ERR(AUG_EDATA, "node %lld (gmsh tag %zu) has a non-finite coordinate",
                        (long long)nn, w->nodes[p].tag);
+        for (int d = 0; d < 3; d++)
+            if (!(fabs(c[d]) <= AUG_COORD_MAX))
+                return ERR(AUG_EDATA, "node %lld (gmsh tag %zu) has a coordinate %g beyond 1e30 in magnitude",
+                           (long long)nn, w->nodes[p].tag, c[d]);
         for (int d = 0; d < dim; d++) m->x[nn * dim + d] = c[d];
         w->newid[orig] = (int32_t)nn++;
     }

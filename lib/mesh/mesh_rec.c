@@ -36,6 +36,8 @@ static int absorb_node(aug_mesh *m, const aug_rec *rec, aug_err *e)
     for (int64_t i = 0; i < nn * dim; i++)
         if (!isfinite(m->x[i]))
             return DATA("node %lld has a non-finite coordinate", (long long)(i / dim));
+        else if (!(fabs(m->x[i]) <= AUG_COORD_MAX))
+            return DATA("node %lld has a coordinate %g beyond 1e30 in magnitude", (long long)(i / dim), m->x[i]);
     m->dim = dim;
     m->nn = nn;
     return 0;

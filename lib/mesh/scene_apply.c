@@ -79,6 +79,11 @@ static void loads(const aug_scene_spec *s, const aug_mesh *m, aug_sink *k, doubl
         const aug_load_spec *l = &s->load[j];
         if (m->dim == 2 && l->F[2] != 0)
             aug_sink_report(k, "--load %s: a 2-D mesh takes no z force", l->arg);
+        /* two numbers on a 3-D mesh would silently mean z = 0 */
+        if (m->dim == 3 && l->nF == 2)
+            aug_sink_report(k, "--load %s: a 3-D mesh takes fx,fy,fz (three numbers)", l->arg);
+        if (m->dim == 3 && l->point && l->np == 2)
+            aug_sink_report(k, "--load %s: a 3-D mesh takes point:x,y,z (three numbers)", l->arg);
         if (l->point) {
             int32_t i = (int32_t)aug_nearest_node(m, l->p);
             aug_load_spread(m, &i, 1, l->F, f);

@@ -142,12 +142,12 @@ static void parse_load(aug_sink *k, const char *s, aug_load_spec *l)
     l->arg = s;
     const char *c = last_colon(k, "--load", s, "GROUP:fx,fy,fz or point:x,y,z:fx,fy,fz");
     if (!c) return;
-    if (vec3(c + 1, l->F) < 0) aug_sink_report(k, "--load %s: the force '%s' is not fx,fy,fz", s, c + 1);
+    if ((l->nF = vec3(c + 1, l->F)) < 0) aug_sink_report(k, "--load %s: the force '%s' is not fx,fy,fz", s, c + 1);
     if (strncmp(s, "point:", 6) == 0 && c > s + 5) {
         char buf[256];
         size_t n = (size_t)(c - (s + 6));
         l->point = 1;
-        if (n >= sizeof buf || (memcpy(buf, s + 6, n), buf[n] = 0, vec3(buf, l->p) < 0))
+        if (n >= sizeof buf || (memcpy(buf, s + 6, n), buf[n] = 0, (l->np = vec3(buf, l->p)) < 0))
             aug_sink_report(k, "--load %s: the point is not x,y,z", s);
     } else {
         group_name(k, "--load", s, (size_t)(c - s), l->group);

@@ -50,6 +50,9 @@ int aug_read_mdelta(const aug_rec *rec, int dim, int nv, aug_mdelta *d, aug_err 
         if (!isfinite(d->x[i]))
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
                                "new node %lld has a non-finite coordinate", (long long)(i / dim));
+        else if (!(fabs(d->x[i]) <= AUG_COORD_MAX))
+            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "new node %lld has a coordinate %g beyond 1e30 in magnitude",
+                               (long long)(i / dim), d->x[i]);
     d->nmod = aug_cur_i64(&c);
     if (!count_ok(&c, d->nmod, 4 * (uint64_t)(nv + 1))) return BAD("bad changed-element count");
     d->elem = aug_malloc((size_t)d->nmod * 4);

@@ -215,6 +215,7 @@ static int add_mdlt(aug_summary *s, const aug_rec *rec, aug_err *e)
 static int add_updt(aug_summary *s, const aug_rec *rec, aug_err *e)
 {
     aug_update u;
+    if (aug_replay_add(&s->rp, rec, e)) return e->code; /* its step's order (formats 7.1) */
     int rc = aug_read_update(rec, &u, e);
     if (!rc) {
         double *q = aug_realloc(s->m_all, (size_t)(s->nupdt + 1) * sizeof *q);
@@ -382,12 +383,13 @@ int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e)
     return rc;
 }
 
-void aug_summary_end(aug_summary *s, const aug_rec *tail)
+int aug_summary_end(aug_summary *s, const aug_rec *tail, aug_err *e)
 {
-    if (tail) {
-        count(s, tail);
-        s->complete = 1;
-    }
+    aug_err_clear(e);
+    if (!tail) return 0;
+    count(s, tail);
+    s->complete = 1;
+    return aug_replay_end(&s->rp, e);
 }
 
 const aug_steptab *aug_summary_steps(const aug_summary *s) { return &s->tab; }

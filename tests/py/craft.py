@@ -9,6 +9,8 @@ usage: craft.py KIND IN [IN2] > OUT
   fact-from IN2  IN with its FACT replaced by IN2's (a factor of another K)
   fvec-nan       the first FVEC's entry 0 = NaN
   mdlt-nan       the first MDLT's first new node x = NaN
+  mdlt-huge      the first MDLT's first new node x = 1e150 (finite, beyond 1e30)
+  node-huge      NODE's node 1 y = -1e150
   mdlt-flags     the first MDLT's flags = 0x40
   mdlt-noflags   every MDLT's flags = 0 (a detached step no longer says so)
   mdlt-invert    the first MDLT's first changed element with two nodes swapped
@@ -24,6 +26,7 @@ usage: craft.py KIND IN [IN2] > OUT
   updt-dup       the second UPDT repeated right after itself
   updt-drop      the first UPDT removed (its step's deltas without an UPDT)
   updt-early     the first UPDT moved before its step's MDLT
+  updt-last      the last UPDT removed (the stream ends with a step's deltas)
   upkm-drop      every UPKM removed (a dynamic step without its K and M updates)
   upkm-mk        the first UPKM's k increased by one (its UPDT disagrees)
   upkm-asym      the first UPKM's EK(0,1) changed, EK(1,0) not
@@ -152,6 +155,18 @@ def main():
         nnew = struct.unpack_from("<q", p, 0)[0]
         struct.pack_into("<d", p, 8 + 4 * nnew, math.nan)
         put(recs, i, p)
+    elif kind == "mdlt-huge":
+        i = first(recs, "MDLT")
+        p = bytearray(recs[i][3])
+        nnew = struct.unpack_from("<q", p, 0)[0]
+        struct.pack_into("<d", p, 8 + 4 * nnew, 1e150)
+        put(recs, i, p)
+    elif kind == "node-huge":
+        i = first(recs, "NODE")
+        p = bytearray(recs[i][3])
+        dim = struct.unpack_from("<i", p, 0)[0]
+        struct.pack_into("<d", p, 16 + 8 * (dim + 1), -1e150)
+        put(recs, i, p)
     elif kind == "mdlt-flags":
         i = first(recs, "MDLT")
         p = bytearray(recs[i][3])
@@ -227,6 +242,8 @@ def main():
         recs.insert(u[1] + 1, recs[u[1]])
     elif kind == "updt-drop":
         del recs[first(recs, "UPDT")]
+    elif kind == "updt-last":
+        del recs[max(i for i, r in enumerate(recs) if r[0] == "UPDT")]
     elif kind == "updt-early":
         i = first(recs, "UPDT")
         r = recs.pop(i)

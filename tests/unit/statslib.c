@@ -537,10 +537,7 @@ static aug_summary *summary_of(const char *s, size_t len, int32_t limit, int *rc
         int k;
         while ((k = aug_read(r, &rec, &e)) > 0)
             if (aug_summary_add(sm, &rec, &e)) break;
-        if (k == 0) {
-            aug_summary_end(sm, &rec);
-            *rc = 0;
-        }
+        if (k == 0) *rc = aug_summary_end(sm, &rec, &e) ? -1 : 0;
         aug_rec_free(&rec);
     }
     aug_reader_free(r);
@@ -651,8 +648,8 @@ static void test_alloc_failure(void)
             while ((q = aug_read(r, &rec, &e)) > 0)
                 if (aug_summary_add(sm, &rec, &e) || aug_dump_record(o, &d, &rec, &e)) break;
             if (q == 0) {
-                aug_summary_end(sm, &rec);
-                rc = aug_summary_print(o, sm, "mem", &e);
+                rc = aug_summary_end(sm, &rec, &e);
+                if (!rc) rc = aug_summary_print(o, sm, "mem", &e);
                 if (!rc) rc = aug_steptab_csv(o, aug_summary_steps(sm), &e);
                 if (!rc) {
                     int32_t fs;
