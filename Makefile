@@ -1,7 +1,7 @@
 # augcut: one non-recursive Makefile.
 #   make deps      install missing Debian packages (does nothing when all are there)
 #   make           library and tools in bin/
-#   make check     deps, build, every test; ends with "N passed, N failed"
+#   make check     deps, build (also the ASan+UBSan and the TSan tools), every test; ends with "N passed, N failed"
 #   make demo      deps, build, the bundled progressive cut
 #   make bench     the papers' figures as CSV + PNG in bench/out/
 #   make check-asan    ASan+UBSan unit tests and every shell test with the ASan+UBSan tools
@@ -111,6 +111,25 @@ $(B)/asan/bin/%: bin/%.c $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(HDRS)
 	$(CC) $(CFLAGS) $(ASAN_FLAGS) -o $@ $< $(B)/asan/libaugcli.a $(B)/asan/libaugcut.a $(LDLIBS_NUM)
 ASAN_TOOLS := $(TOOLS:bin/%=$(B)/asan/bin/%)
 
+# ThreadSanitizer build of the tools that start threads (factor, modal,
+# solve-aug: --threads, --background) for tests/threads_tsan.test. The ifunc
+# resolvers of target_clones run before TSan is up and crash instrumented,
+# so the three files that have them are built without it.
+TSAN_FLAGS = -O1 -g -fsanitize=thread
+TSAN_PLAIN := $(B)/tsan/lib/solve/amps_memo.o $(B)/tsan/lib/cut/constrain_spec.o $(B)/tsan/lib/refine/refine_mem3_region.o
+$(TSAN_PLAIN): TSAN_FLAGS = -O1 -g
+$(B)/tsan/lib/%.o: lib/%.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(TSAN_FLAGS) -c -o $@ $<
+$(B)/tsan/libaugcut.a: $(LIB_SRC:lib/%.c=$(B)/tsan/lib/%.o)
+	rm -f $@ && ar rcs $@ $^
+$(B)/tsan/libaugcli.a: $(CLI_SRC:lib/%.c=$(B)/tsan/lib/%.o)
+	rm -f $@ && ar rcs $@ $^
+$(B)/tsan/bin/%: bin/%.c $(B)/tsan/libaugcli.a $(B)/tsan/libaugcut.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -O1 -g -fsanitize=thread -o $@ $< $(B)/tsan/libaugcli.a $(B)/tsan/libaugcut.a $(LDLIBS_NUM)
+TSAN_TOOLS := $(B)/tsan/bin/factor $(B)/tsan/bin/modal $(B)/tsan/bin/solve-aug
+
 # Bundled scenes, meshed by gmsh from scenes/*.geo
 SCENES := $(B)/scenes/beam_h4.msh $(B)/scenes/beam_h16.msh $(B)/scenes/beam_h64.msh \
           $(B)/scenes/brick_n4.msh $(B)/scenes/brick_n8.msh $(B)/scenes/square.msh \
@@ -147,7 +166,7 @@ $(B)/scenes/dome.msh: scenes/dome.geo
 scenes: $(SCENES)
 
 check: deps
-	@$(MAKE) -j$(NPROC) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS) >$(B).log 2>&1 || { mkdir -p $(B); cat $(B).log; exit 1; }
+	@$(MAKE) -j$(NPROC) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS) $(TSAN_TOOLS) >$(B).log 2>&1 || { mkdir -p $(B); cat $(B).log; exit 1; }
 	@sh tests/run.sh
 
 check-asan: deps

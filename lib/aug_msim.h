@@ -55,6 +55,8 @@ typedef struct aug_mdomain {
     int r;                      /* reduced: rank */
     double *W;                  /* nf x r explicit basis while reduced */
     double *MW, *KW, *flift;    /* reduced: M W, K W, f - K[F,C] u_C (its residual) */
+    double *mvc;                /* reduced: M[F,C] v_C this frame (nf), when vc */
+    int vc;                     /* reduced: some constrained DOF moves (v_C != 0) this frame */
     double *dinv;               /* 1 / diag(A) over the free DOFs */
     const double *res;          /* the frame's full-order residual (du reduced, tmp FE; not owned) */
     unsigned char *iface;       /* nf: free DOF on an interface row */

@@ -20,7 +20,7 @@ export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 if [ -z "${OPENBLAS_CORETYPE:-}" ] && grep -qw avx2 /proc/cpuinfo 2> /dev/null; then
     export OPENBLAS_CORETYPE=Haswell
 fi
-export AUG_DATA="$PWD/tests/data" AUG_SCENES="$PWD/$B/scenes" AUG_ROOT="$PWD"
+export AUG_DATA="$PWD/tests/data" AUG_SCENES="$PWD/$B/scenes" AUG_ROOT="$PWD" AUG_TSAN_BIN="$PWD/$B/tsan/bin"
 
 # --item DIR IDX KIND MODE PATH PREFIX: run one test, write DIR/IDX.{pf,msg,log}
 # (KIND unit|shell, MODE plain|asan)

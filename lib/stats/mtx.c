@@ -8,11 +8,11 @@
 
 struct aug_mtx {
     cholmod_common cm;
-    cholmod_sparse *kmat[3]; /* the first KMAT of each kind (AUG_MAT_K, _M, _ML) */
+    cholmod_sparse *kmat[4]; /* the first KMAT of each kind (AUG_MAT_K, _M, _ML, _A) */
     int32_t *map0;           /* DOFM: the numbering of K0 */
     int dim;
     int64_t ndof, nfree;
-    char *written[3];        /* files written, removed again on failure */
+    char *written[4];        /* files written, removed again on failure */
 };
 
 aug_mtx *aug_mtx_new(aug_err *e)
@@ -30,7 +30,7 @@ aug_mtx *aug_mtx_new(aug_err *e)
 void aug_mtx_free(aug_mtx *x, int discard)
 {
     if (!x) return;
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < 4; i++) {
         if (x->kmat[i]) cholmod_free_sparse(&x->kmat[i], &x->cm);
         if (discard && x->written[i]) remove(x->written[i]);
         free(x->written[i]);
@@ -50,7 +50,8 @@ int aug_mtx_add(aug_mtx *x, const aug_rec *rec, aug_err *e)
     int which = -1;
     cholmod_sparse *A = aug_read_sparse(rec, &which, &x->cm, e);
     if (!A) return e->code;
-    if (!x->kmat[which]) x->kmat[which] = A;
+    /* (aug_read_sparse refuses a kind outside 0..AUG_MAT_A) */
+    if (which >= 0 && which <= AUG_MAT_A && !x->kmat[which]) x->kmat[which] = A;
     else cholmod_free_sparse(&A, &x->cm);
     return 0;
 }
@@ -92,11 +93,12 @@ static int write_file(aug_mtx *x, int slot, const char *prefix, const char *suff
 
 /* Step 0: PREFIX_K.mtx = K0 as in the KMAT record (over the free DOFs of
    DOFM), PREFIX_M.mtx / PREFIX_ML.mtx = the consistent / lumped mass matrix
-   when the stream has it. Step t > 0: PREFIX_K.mtx = K_t in the cut-matrix
+   when the stream has it, PREFIX_A.mtx = the integrator's matrix A of a
+   dynamic stream (factor --dynamic, KMAT which 3). Step t > 0: PREFIX_K.mtx = K_t in the cut-matrix
    numbering (formats/stream.md 7.2), assembled from scratch on m, the mesh of
    step t (aug_assemble_cut: constrained indices are identity rows); by 7.2
-   this is K0 with the updates of steps 1..t applied. The stream holds no
-   update of M, so M is written at step 0 only. */
+   this is K0 with the updates of steps 1..t applied. M and A are written
+   at step 0 only (a dynamic stream's UPKM updates are not applied). */
 int aug_mtx_write(aug_mtx *x, int32_t step, const aug_mesh *m, const char *prefix, aug_err *e)
 {
     aug_err_clear(e);
@@ -104,9 +106,10 @@ int aug_mtx_write(aug_mtx *x, int32_t step, const aug_mesh *m, const char *prefi
     if (step == 0) {
         if (!x->kmat[AUG_MAT_K])
             return aug_err_set(e, AUG_EDATA, -1, "", "no stiffness matrix in the stream (KMAT which 0; run factor)");
-        static const char *suffix[3] = {"_K.mtx", "_M.mtx", "_ML.mtx"};
-        static const char *name[3] = {"K0", "M (consistent mass)", "M (lumped mass)"};
-        for (int i = 0; i < 3; i++) {
+        static const char *suffix[4] = {"_K.mtx", "_M.mtx", "_ML.mtx", "_A.mtx"};
+        static const char *name[4] = {"K0", "M (consistent mass)", "M (lumped mass)",
+                                      "A (the integrator's matrix of factor --dynamic)"};
+        for (int i = 0; i < 4; i++) {
             if (!x->kmat[i]) continue;
             snprintf(what, sizeof what, "%s at step 0 over the free DOFs (DOFM order)", name[i]);
             if (write_file(x, i, prefix, suffix[i], x->kmat[i], what, e)) return e->code;
