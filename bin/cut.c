@@ -231,7 +231,11 @@ int main(int argc, char **argv)
         aug_tool_die(&t, "%s: --path needs a 2-D triangle mesh (or a membrane and --view)", t.inname);
     const char *sopt = o.bladefile ? "--blade" : "--surface", *sfile = o.bladefile ? o.bladefile : o.surffile;
     if (sfile && m->dim != 3) aug_tool_die(&t, "%s: %s needs a 3-D mesh", t.inname, sopt);
-    if (sfile && aug_cutsurf_meets(&o.surf, m) == 0)
+    int meets = sfile ? aug_cutsurf_meets(&o.surf, m) : 1;
+    if (meets == -1) aug_tool_die(&t, "%s: %s %s: out of memory", t.inname, sopt, sfile);
+    if (meets == -2)
+        aug_tool_die(&t, "%s: %s %s sweeps no surface (its positions do not move the edge)", t.inname, sopt, sfile);
+    if (meets == 0)
         aug_tool_die(&t, "%s: %s %s misses the mesh (no part of it meets the mesh's box)", t.inname, sopt, sfile);
     aug_view vw;
     memset(&vw, 0, sizeof vw);

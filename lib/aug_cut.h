@@ -616,7 +616,8 @@ void aug_cutsurf_free(aug_cutsurf *s);
 int aug_cutsurf_surface(aug_cutsurf *s, const double *dir, aug_err *e);
 int aug_cutsurf_step(aug_cutsurf *s, long k, long n, aug_err *e);
 /* 1 when the box of some triangle of the whole surface meets the mesh's, 0
-   not, -1 memory. */
+   not, -2 when it has no triangle of positive area (a blade that does not
+   move: aug_soup_add skips them), -1 memory. */
 int aug_cutsurf_meets(const aug_cutsurf *s, const aug_mesh *m);
 
 int aug_blade_cut_init(aug_blade_cut *bc, const aug_mesh *m, int mode, double tol, aug_err *e);

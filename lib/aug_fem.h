@@ -83,6 +83,10 @@ int64_t aug_mesh_components(const aug_mesh *m, int32_t *comp);
 /* Singular scenes: every component's constraints must remove its rigid-body
    modes (6 in 3-D, 3 in 2-D); otherwise AUG_ESINGULAR naming the component. */
 int aug_check_support(const aug_mesh *m, aug_err *e);
+/* The rigid motions its constraints leave free (a dynamic scene need not be
+   held), on the free DOFs of map: *R nfree x k (column-major, malloc'ed; at
+   most kmax columns). Returns k, -1 when out of memory. */
+int64_t aug_free_rigid_modes(const aug_mesh *m, const int32_t *map, int64_t nfree, int64_t kmax, double **R);
 /* mem3 (lib/fem/membrane_support.c): a free direction of a node with no
    stiffness (a flat part of the sheet: its normal), checked by
    aug_check_support; after the factorization, a zero-stiffness mode of K
@@ -149,13 +153,22 @@ typedef struct aug_modes {
     int nev, converged, iters;
     double lambda[AUG_MODES_MAX];
 } aug_modes;
+/* R (n x k, column-major; NULL, 0: none): modes known to have lambda = 0
+   (aug_free_rigid_modes), deflated: lambda_1..k = 0, the rest found in
+   their M-orthogonal complement. */
 int aug_modes_lowest(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
-                     double tol, aug_modes *r, cholmod_common *cm, aug_err *e);
+                     double tol, const double *R, int k, aug_modes *r, cholmod_common *cm, aug_err *e);
 /* As aug_modes_lowest, and X (n x nev, column-major) the eigenvectors in the
    order of lambda, M-orthonormal (X'MX = I; ARPACK dseupd with rvec = 1);
    X NULL: eigenvalues only; unconverged: X all NAN. */
 int aug_modes_lowest_vec(cholmod_sparse *M, cholmod_factor *L, double cM, double cK, int nev,
-                         double tol, aug_modes *r, double *X, cholmod_common *cm, aug_err *e);
+                         double tol, const double *R, int k, aug_modes *r, double *X,
+                         cholmod_common *cm, aug_err *e);
+/* The same with K possibly singular (free rigid motions, floating
+   sub-domains): its own factor of K + alpha M, alpha = 1e-8 max K_jj / M_jj
+   (modes.c); K and M stored as the same triangle. X NULL: no vectors. */
+int aug_modes_shifted(cholmod_sparse *K, cholmod_sparse *M, int nev, double tol, const double *R, int k,
+                      aug_modes *r, double *X, cholmod_common *cm, aug_err *e);
 
 /* fELD (field of one step): nodes == NULL means nodes 0..count-1 (not indexed).
    aug_read_field: *nodes is NULL when the record is not indexed; both malloc'd. */

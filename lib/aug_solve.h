@@ -418,7 +418,11 @@ int aug_gmres_set_base(aug_gmres *g, const aug_base *b, const cholmod_sparse *Kb
    then a1 = Kbar^-1 (f_t - J a2) (eq. 16). times: setup, rhs, iter, solve. */
 int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat *cm_t,
                    const int32_t *out, int64_t nout, double *u, double times[4], aug_err *e);
-int aug_gmres_solve_general(aug_gmres *g, const aug_base *b, const aug_cum *c,
+/* K_t x = r for a general r (refinement, dynamic frames, an output set's
+   rest): the same steps with full solves, warm rounds at a tighter Schur
+   tolerance until m's relative residual against r meets tol (m NULL: one
+   round at tol); converged as for a step. */
+int aug_gmres_solve_general(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat *m,
                             const double *r, double *x, aug_err *e);
 /* The per-step set-up of aug_gmres_step (J = K_t Hbar, closures) without a
    solve: then aug_gmres_solve_general per right-hand side. */

@@ -53,8 +53,8 @@ int aug_cutsurf_meets(const aug_cutsurf *s, const aug_mesh *m)
         if (aug_blade_sweep(&s->b, 0, 1, &all)) return -1;
         a = &all;
     }
-    int meets = 0;
-    for (int64_t t = 0; t < a->n && !meets; t++) {
+    int meets = a->n == 0 ? -2 : 0;
+    for (int64_t t = 0; t < a->n && meets != 1; t++) {
         int in = 1;
         for (int k = 0; k < 3 && in; k++) {
             const double *p = a->t + 9 * t;

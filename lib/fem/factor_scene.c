@@ -90,9 +90,15 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
     if (o->modes) {
         cholmod_sparse *M = o->dyn ? (o->dyn->mass == AUG_MAT_M ? r->M : r->ML) : r->M ? r->M : r->ML;
         if (!M) return aug_err_set(e, AUG_EUSAGE, -1, "", "--modes needs a mass matrix");
-        if (aug_modes_lowest(M, r->L, o->dyn ? o->dyn->cM : 0.0, o->dyn ? o->dyn->cK : 1.0, o->modes,
-                             o->cond_tol * 1e-4, &r->modes, cm, e))
-            return e->code;
+        /* a dynamic scene need not be held: its free rigid motions are
+           modes with lambda = 0, deflated (modes.c) */
+        double *R = NULL;
+        int64_t k = o->dyn ? aug_free_rigid_modes(m, r->map, r->nfree, o->modes, &R) : 0;
+        if (k < 0) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+        int mrc = o->dyn ? aug_modes_shifted(r->K, M, o->modes, o->cond_tol * 1e-4, R, (int)k, &r->modes, NULL, cm, e)
+                         : aug_modes_lowest(M, r->L, 0.0, 1.0, o->modes, o->cond_tol * 1e-4, R, (int)k, &r->modes, cm, e);
+        free(R);
+        if (mrc) return e->code;
     }
     return 0;
 }
@@ -147,8 +153,10 @@ int aug_factored_write(aug_writer *w, const aug_factored *r, const aug_mesh *m,
             double l = r->modes.lambda[i];
             snprintf(key, sizeof key, "lambda_%d", i + 1);
             aug_kv_set(&k, key, l);
+            /* none for a free rigid motion (lambda 0: no finite period) or
+               an unconverged lambda: left out, not written as inf or nan */
             snprintf(key, sizeof key, "period_%d", i + 1);
-            aug_kv_set(&k, key, l > 0 ? 2 * M_PI / sqrt(l) : NAN);
+            if (l > 0) aug_kv_set(&k, key, 2 * M_PI / sqrt(l));
         }
         if (aug_write_kv(w, "cOND", AUG_NOSTEP, &k, e)) return e->code;
     }

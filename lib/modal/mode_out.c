@@ -42,8 +42,9 @@ int aug_msim_mode(const aug_msim *s, int di, aug_moderec *mr, aug_err *e)
 }
 
 /* paper 004 fig. 3: the K lowest modes of K x = lambda M x of the domain
-   (ARPACK shift-invert on the CHOLMOD factor of its A = cM M + cK K, as
-   factor --modes), kept for the comparison at its switch */
+   (ARPACK shift-invert on a CHOLMOD factor of K + alpha M, as factor
+   --modes in a dynamic scene: aug_modes_shifted), kept for the comparison
+   at its switch */
 int aug_msim_lma(aug_msim *s, int di, int k, aug_moderec *mr, aug_err *e)
 {
     aug_err_clear(e);
@@ -53,20 +54,10 @@ int aug_msim_lma(aug_msim *s, int di, int k, aug_moderec *mr, aug_err *e)
     d->lmaX = NULL, d->nlma = 0;
     if (k > AUG_MODES_MAX) k = AUG_MODES_MAX;
     if (d->nf <= k + 1) return 0; /* too small to have k modes: none */
-    cholmod_factor *L = aug_analyze(d->A, s->cm, e);
-    if (!L) return e->code;
-    if (aug_factorize(d->A, L, NULL, NULL, s->cm, e)) {
-        cholmod_free_factor(&L, s->cm);
-        return e->code;
-    }
     d->lmaX = malloc((size_t)d->nf * k * sizeof *d->lmaX);
-    if (!d->lmaX) {
-        cholmod_free_factor(&L, s->cm);
-        return NOMEM(e);
-    }
+    if (!d->lmaX) return NOMEM(e);
     aug_modes md;
-    int rc = aug_modes_lowest_vec(d->M, L, s->p.cM, s->p.cK, k, 1e-10, &md, d->lmaX, s->cm, e);
-    cholmod_free_factor(&L, s->cm);
+    int rc = aug_modes_shifted(d->K, d->M, k, 1e-10, NULL, 0, &md, d->lmaX, s->cm, e);
     if (rc) return rc;
     if (!md.converged)
         return aug_err_set(e, AUG_ENOCONV, -1, "MODE", "domain %d: ARPACK did not converge on its %d lowest modes", di, k);
