@@ -1,7 +1,7 @@
 # augcut: one non-recursive Makefile.
 #   make deps      install missing Debian packages (does nothing when all are there)
 #   make           library and tools in bin/
-#   make check     deps, build (also the ASan+UBSan and the TSan tools), every test; ends with "N passed, N failed"
+#   make check     deps, build (also the ASan+UBSan and the TSan tools and the fuzz targets), every test; ends with "N passed, N failed"
 #   make demo      deps, build, the bundled progressive cut
 #   make bench     the papers' figures as CSV + PNG in bench/out/
 #   make check-asan    ASan+UBSan unit tests and every shell test with the ASan+UBSan tools
@@ -166,7 +166,7 @@ $(B)/scenes/dome.msh: scenes/dome.geo
 scenes: $(SCENES)
 
 check: deps
-	@$(MAKE) -j$(NPROC) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS) $(TSAN_TOOLS) >$(B).log 2>&1 || { mkdir -p $(B); cat $(B).log; exit 1; }
+	@$(MAKE) -j$(NPROC) --no-print-directory all scenes $(ASAN_UNIT) $(ASAN_TOOLS) $(TSAN_TOOLS) fuzz-build >$(B).log 2>&1 || { mkdir -p $(B); cat $(B).log; exit 1; }
 	@sh tests/run.sh
 
 check-asan: deps

@@ -1,8 +1,8 @@
 #!/bin/sh
 # make check-fuzz: the fuzz targets of make fuzz build and run: each one over
 # every seed of fuzz/corpus, then 200 mutations (new inputs go to a scratch
-# directory, fuzz/corpus is left alone). Not part of make check: building the
-# sanitized library takes minutes. Ends with "N passed, N failed".
+# directory, fuzz/corpus is left alone). make check builds the targets too
+# and runs this as tests/fuzz_targets.test. Ends with "N passed, N failed".
 cd "$(dirname "$0")/.." || exit 2
 B=build
 pass=0; fail=0
