@@ -62,6 +62,7 @@ typedef struct state {
     aug_replay rp;       /* the original mesh (phase 1) */
     aug_refiner r;
     int started;
+    long elem_index;     /* the ELEM record's index (errors about the mesh's elements) */
     aug_rec *buf;        /* the current step's records, in order */
     int nbuf, capbuf;
     int32_t step;
@@ -91,7 +92,9 @@ static void start(aug_tool *t, state *s, const options *o)
     if (!(m->have & AUG_HAVE_NODE) || !(m->have & AUG_HAVE_ELEM))
         aug_tool_die(t, "%s: the stream has no mesh (NODE and ELEM records)", t->inname);
     aug_tool_check(t, aug_replay_start(&s->rp, &e), &e);
-    aug_tool_check(t, aug_refiner_init(&s->r, m, &o->opt, &e), &e);
+    int rc = aug_refiner_init(&s->r, m, &o->opt, &e);
+    if (rc && e.record < 0 && !strcmp(e.type, "ELEM")) e.record = s->elem_index; /* name the elements' record */
+    aug_tool_check(t, rc, &e);
     s->r.dyn = s->rp.dynamic ? &s->rp.dyn : NULL;
     s->started = 1;
 }
@@ -180,6 +183,7 @@ int main(int argc, char **argv)
             keep(&t, &s, &rec); /* an ancillary record between a step's records keeps its place */
         } else {
             if (!s.started) aug_tool_check(&t, aug_replay_add(&s.rp, &rec, &e), &e);
+            if (!memcmp(rec.type, "ELEM", 4)) s.elem_index = rec.index;
             aug_tool_pass(&t, &rec);
         }
     }

@@ -63,6 +63,7 @@ typedef struct aug_mdomain {
     cholmod_sparse *Afull;      /* A with both triangles (fe_residual's rows), NULL until needed */
     double acc, last_res;       /* accumulated error estimate of its reduced frames (whole run), its last increment */
     int spent;                  /* a stretch ended on the budget: it does not switch again */
+    int over;                   /* past its budget in this frame's first solve (aug_msim_frame) */
     double *Kr, *Mr, *Ar, *fr, *q, *qd, *br, *dq;
     double err_switch;          /* projection error at the switch */
     double last_err, last_est, last_ratio;
@@ -157,6 +158,7 @@ typedef struct aug_msim {
     /* last frame's figures */
     double gap, relres, t_rhs, t_solve, t_adv, t_svd, t_build;
     int iters, converged, rank_c, events, step_events;
+    int redo;                   /* this frame was solved again with domains back in FE (aug_msim_frame) */
     int64_t nsys;
 } aug_msim;
 

@@ -218,6 +218,7 @@ typedef struct aug_refine_q {
     double aspect_mean0, aspect_max0, area_ratio0, min_angle0; /* the cut's own pieces */
     int64_t intersected, region, added, nodes, cut_added, cut_nodes, bad_left;
     int64_t bisections, flips, capped;
+    int64_t written, written0;  /* elements the figures are over (after, the cut's own) */
     double t_cdt, t_bisect, t_update, t_total;                 /* ms */
 } aug_refine_q;
 

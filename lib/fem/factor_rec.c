@@ -256,8 +256,11 @@ cholmod_factor *aug_read_factor(const aug_rec *rec, cholmod_common *cm, aug_err 
     aug_cur_i32v(&c, Li, (uint64_t)nnz);
     aug_cur_f64v(&c, Lx, (uint64_t)nnz);
     for (int64_t j = 0; j < n; j++) {
-        if (Li[Lp[j]] != j || !isfinite(Lx[Lp[j]]) || Lx[Lp[j]] == 0) {
-            DATA("column %lld does not start with a finite nonzero D(j,j)", (long long)j);
+        /* K0 (or A) is positive definite: every D(j,j) > 0 (a negative one
+           was refused by solve-aug without the record, passed by stats) */
+        if (Li[Lp[j]] != j || !isfinite(Lx[Lp[j]]) || !(Lx[Lp[j]] > 0)) {
+            DATA("column %lld does not start with a finite positive D(j,j) (%g)", (long long)j,
+                 Li[Lp[j]] == j ? Lx[Lp[j]] : NAN);
             goto fail;
         }
         for (int q = Lp[j] + 1; q < Lp[j + 1]; q++)

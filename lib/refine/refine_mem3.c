@@ -425,6 +425,7 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
         q->min_angle0 = i ? fmin(q->min_angle0, m) : m;
     }
     q->cut_added = d->nadd, q->cut_nodes = d->nnew;
+    q->written0 = nw;
     double thmin = r->opt.min_angle_given ? r->opt.min_angle : 0;
     /* a triangle with an angle th has l_max / l_min >= 1 / (2 sin(th/2)) */
     double thasp = r->opt.max_aspect > 0.5 ? 2 * asin(1 / (2 * r->opt.max_aspect)) * 180 / M_PI : 0;
@@ -488,6 +489,7 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
         cnt++;
     }
     if (cnt) q->aspect_mean /= (double)cnt;
+    q->written = cnt;
     /* a cut-view triangle whose base triangle refinement changed is no longer mapped */
     for (int64_t i = 0; i < ed.nmod + ed.nadd; i++) {
         int64_t b = i < ed.nmod ? ed.mod_elem[i] : ed.ne0 + (i - ed.nmod);

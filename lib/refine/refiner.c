@@ -306,6 +306,7 @@ int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *bc, c
     }
     for (int64_t i = 0; i < np; i++) r->carea0[list[i]] = la0[i];
     qfig(C, list, np, la0, &q->aspect_mean0, &q->aspect_max0, &q->area_ratio0, &q->min_angle0);
+    q->written0 = np;
     q->cut_added = d->nadd;
     q->cut_nodes = d->nnew;
 
@@ -366,13 +367,19 @@ int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *bc, c
     list = aug_malloc((size_t)(np + 1) * sizeof *list);
     la0 = aug_malloc((size_t)(np + 1) * sizeof *la0);
     if (!list || !la0) goto nomem;
+    /* bad_left: elements left bad in shape, also those --area-ratio kept
+       from refinement (its limit made them "not bad" to the bisection:
+       bad_left 0 beside aspect_max 56.8 on the square) */
+    aug_refine_opt shape = r->opt;
+    shape.area_ratio = 0;
     for (int64_t i = 0; i < np; i++) {
         list[i] = i < out->nmod ? out->elem[i] : (int32_t)(W->ne_begin + i - out->nmod);
         la0[i] = W->area0[list[i]];
         /* (3-D: bad_left read 0 whatever was left above the bounds) */
-        if (dim == 2 ? aug_bisect2d_bad(W, list[i], &r->opt) : aug_bisect3d_bad(W, list[i], &r->opt)) q->bad_left++;
+        if (dim == 2 ? aug_bisect2d_bad(W, list[i], &shape) : aug_bisect3d_bad(W, list[i], &shape)) q->bad_left++;
     }
     qfig(&W->m, list, np, la0, &q->aspect_mean, &q->aspect_max, &q->area_ratio, &q->min_angle);
+    q->written = np;
     q->added = out->nadd;
     q->nodes = out->nnew;
     q->t_total = now_ms() - t0;
@@ -414,14 +421,21 @@ int aug_refine_bc_only(aug_refiner *r, int32_t step, const aug_bdelta *bc, aug_b
 void aug_refine_q_kv(const aug_refine_q *q, int dim, aug_kv *qual, aug_kv *time)
 {
     aug_kv_init(qual, "refine");
-    aug_kv_set(qual, "aspect_mean", q->aspect_mean);
-    aug_kv_set(qual, "aspect_max", q->aspect_max);
-    aug_kv_set(qual, "area_ratio", q->area_ratio);
-    aug_kv_set(qual, dim == 2 ? "min_angle" : "min_dihedral", q->min_angle);
-    aug_kv_set(qual, "aspect_mean0", q->aspect_mean0);
-    aug_kv_set(qual, "aspect_max0", q->aspect_max0);
-    aug_kv_set(qual, "area_ratio0", q->area_ratio0);
-    aug_kv_set(qual, dim == 2 ? "min_angle0" : "min_dihedral0", q->min_angle0);
+    /* the quality of the elements a step wrote; over none (a blade still
+       outside the mesh) there is none: left out, not 0, which read as a
+       zero-degree element */
+    if (q->written > 0) {
+        aug_kv_set(qual, "aspect_mean", q->aspect_mean);
+        aug_kv_set(qual, "aspect_max", q->aspect_max);
+        aug_kv_set(qual, "area_ratio", q->area_ratio);
+        aug_kv_set(qual, dim == 2 ? "min_angle" : "min_dihedral", q->min_angle);
+    }
+    if (q->written0 > 0) {
+        aug_kv_set(qual, "aspect_mean0", q->aspect_mean0);
+        aug_kv_set(qual, "aspect_max0", q->aspect_max0);
+        aug_kv_set(qual, "area_ratio0", q->area_ratio0);
+        aug_kv_set(qual, dim == 2 ? "min_angle0" : "min_dihedral0", q->min_angle0);
+    }
     aug_kv_set(qual, "intersected", (double)q->intersected);
     aug_kv_set(qual, "region", (double)q->region);
     aug_kv_set(qual, "elems_added", (double)q->added);

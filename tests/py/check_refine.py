@@ -234,7 +234,7 @@ def main():
             fail("triangle %d has aspect %.4g > %g or an angle %.4g < %g" % (e, asp, bound, math.degrees(min(angs)), min_angle))
         sharp += 1
     for s, q in qual.items():
-        if q["aspect_max"] > bound * (1 + 1e-9) and not sharp:
+        if q.get("aspect_max", 0) > bound * (1 + 1e-9) and not sharp:
             fail("step %d: qUAl aspect_max %g" % (s, q["aspect_max"]))
     print("check_refine: %d steps, %d nodes, %d triangles, area %.15g, %d cut segments, max aspect %.4f, "
           "min angle %.4f, %d triangles in sharp corners" % (len(steps), len(x), len(conn), sum(vols), len(segs),

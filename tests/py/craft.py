@@ -196,6 +196,23 @@ def main():
         p = bytearray(recs[i][3])
         struct.pack_into("<i", p, 8, -1)            # H[0] = -1: H not increasing from 0
         put(recs, i, p)
+    elif kind == "updt-hbig":
+        # the last H of the last UPDT with m >= 1 past the matrix order
+        i = max(k for k, r in enumerate(recs)
+                if r[0] == "UPDT" and struct.unpack_from("<i", r[3], 0)[0] >= 1)
+        p = bytearray(recs[i][3])
+        m, = struct.unpack_from("<i", p, 0)
+        struct.pack_into("<i", p, 8 + 4 * (m - 1), 10 ** 7)
+        put(recs, i, p)
+    elif kind == "fact-negd":
+        # D(0,0) of the FACT negated (the first value of column 0)
+        i = first(recs, "FACT")
+        p = bytearray(recs[i][3])
+        n, nnz = struct.unpack_from("<qq", p, 0)
+        off = 24 + 4 * n + 8 * (n + 1) + 4 * nnz
+        d, = struct.unpack_from("<d", p, off)
+        struct.pack_into("<d", p, off, -d)
+        put(recs, i, p)
     elif kind == "updt-asym":
         i = first(recs, "UPDT")
         p = bytearray(recs[i][3])

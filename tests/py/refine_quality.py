@@ -4,7 +4,7 @@
 tests of refine(1).
 
 usage: refine_quality.py OUT.aug [--min-angle D] [--max-aspect A] [--max-new N]
-                         [--midpoints yes|no] [--bad-left]
+                         [--midpoints yes|no] [--bad-left] [--area-limited]
 
 For every step with refine's qUAl, on the elements the folded step wrote (the
 MDLT's re-wired and added elements, in the mesh after the step):
@@ -17,7 +17,10 @@ MDLT's re-wired and added elements, in the mesh after the step):
 - --min-angle D (2-D): no written triangle has an angle below D, except in a
   corner between two constrained edges (open: boundary or cut) sharper than D;
 - --bad-left (2-D): qUAl bad_left is the number of written triangles above the
-  aspect bound A (--max-aspect, default 3) or below the angle D;
+  aspect bound A (--max-aspect, default 3) or below the angle D, whatever
+  kept them (a sharp corner, --max-new, refine --area-ratio);
+- --area-limited: refine ran with --area-ratio, which leaves bad triangles
+  anywhere: no angle bound is checked, D only counts for --bad-left;
 - --max-new N: nodes_added <= max(N, cut_nodes);
 - --midpoints yes: every new node that is not the cut's own (the first
   cut_nodes) and not a copy (coincident with an older node) is the midpoint
@@ -124,6 +127,7 @@ def main():
         if key in a:
             opt[key] = a[a.index(key) + 1]
     bad_left = "--bad-left" in a
+    limited = "--area-limited" in a
     D = float(opt.get("--min-angle", 0))
     A = float(opt.get("--max-aspect", 3))
     recs = augstream.records(open(a[0], "rb").read())
@@ -153,7 +157,10 @@ def main():
             figs.append((e, ang, asp))
             mina, maxa = min(mina, min(ang)), max(maxa, asp)
         key = "min_angle" if dim == 2 else "min_dihedral"
-        if not (abs(q[key] - mina) <= 1e-9 * max(1.0, mina) and abs(q["aspect_max"] - maxa) <= 1e-9 * max(1.0, maxa)):
+        if not written:  # no element written: no quality figures (not 0)
+            if key in q or "aspect_max" in q:
+                fail("step %d: qUAl %s / aspect_max over no written element" % (s, key))
+        elif not (abs(q[key] - mina) <= 1e-9 * max(1.0, mina) and abs(q["aspect_max"] - maxa) <= 1e-9 * max(1.0, maxa)):
             fail("step %d: qUAl %s %.17g aspect_max %.17g, the written elements have %.17g and %.17g"
                  % (s, key, q[key], q["aspect_max"], mina, maxa))
         if q["nodes_added"] != len(d["parent"]) or q["elems_added"] != len(d["cadd"]):
@@ -171,7 +178,7 @@ def main():
                         continue
                     e1 = tuple(sorted((c[i], c[(i + 1) % 3])))
                     e2 = tuple(sorted((c[i], c[(i + 2) % 3])))
-                    if D > 0 and not (cnt[e1] == 1 and cnt[e2] == 1):
+                    if D > 0 and not limited and not (cnt[e1] == 1 and cnt[e2] == 1):
                         fail("step %d: triangle %d %s has an angle of %.6g degrees < %g (not a corner between "
                              "two open edges)" % (s, e, c, ang[i], D))
             if bad_left and q["bad_left"] != nbad:
