@@ -55,7 +55,7 @@ static const char *help =
     "  --after-cut W        which reduced domains a cut step returns to FE: all (default),\n"
     "                       neighbours (those sharing an interface with a domain it\n"
     "                       touches) or touched (only those it re-wires: paper 004)\n"
-    "  --monitor            accepted, no effect (the residual estimate always runs)\n"
+    "  --monitor            one line per frame on stderr: the domains' states and error budgets\n"
     "  --fe-solver S        every domain FE: amps (default: the stream's factor and its cut\n"
     "                       updates, as solve-aug) or cholmod (the shared-node system factored)\n"
     "  --ordering auto|amd|metis  fill-reducing ordering of the FE factors (default metis)\n"
@@ -133,7 +133,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--check", &o->check)},
         {AUG_OPT_CHOICE("--after-cut", &m->after_cut, aftercut, "all, neighbours or touched")},
         {AUG_OPT_FLAG("--warp", &m->warp)},
-        {AUG_OPT_FLAG("--monitor", &o->monitor)}, /* no-op: the residual estimate always runs */
+        {AUG_OPT_FLAG("--monitor", &o->monitor)},
         {AUG_OPT_INT("--lma", &o->lma, 1, AUG_MODES_MAX, "a count from 1 to 24")},
         {AUG_OPT_STRING("--output", &o->output, "all, surface or a set name"), .flags = AUG_OPT_NONEMPTY},
         {AUG_OPT_INT("--seed", &o->seed, 1, 2000000000, "a positive integer")},
@@ -290,6 +290,27 @@ static void modes(aug_tool *t, const options *o, session *ss, const aug_rec *rec
     }
 }
 
+/* --monitor: the frame on one stderr line, for watching a run (the same
+   figures as its sTAt, which the stream keeps): per domain F (FE) or R
+   (reduced) and its error (FE: projection error of the last snapshot;
+   reduced: the error at the switch plus the budget used), l2_err with
+   --check (NaN: none) */
+static void monitor(const aug_tool *t, const session *ss, double l2)
+{
+    const aug_msim *s = &ss->sim;
+    int nred = 0;
+    for (int di = 0; di < s->nd; di++) nred += s->d[di].mode == AUG_MD_RED;
+    fprintf(stderr, "%s: step %d frame %d: reduced %d of %d, events %d, redo %d", t->prog, (int)ss->step,
+            (int)s->frame, nred, s->nd, s->events, s->redo);
+    if (!isnan(l2)) fprintf(stderr, ", l2_err %.3g", l2);
+    for (int di = 0; di < s->nd && di < 16; di++) {
+        const aug_mdomain *d = &s->d[di];
+        double err = d->mode == AUG_MD_RED ? d->err_switch + d->acc : d->last_err;
+        fprintf(stderr, "; d%d %c %.3g", di, d->mode == AUG_MD_RED ? 'R' : 'F', err);
+    }
+    fprintf(stderr, s->nd > 16 ? "; ...\n" : "\n");
+}
+
 /* relative L2 distance of the hybrid's nodal displacement to the FE one */
 static double l2_err(const aug_msim *a, const aug_msim *b)
 {
@@ -308,12 +329,14 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, session *ss, l
         if (aug_msim_frame(&ss->sim, &e)) fail_at(t, &e, rec);
         aug_kv st, tm;
         aug_msim_stats(&ss->sim, &st, &tm);
+        double l2 = NAN;
         if (o->check) {
             double t0 = aug_now();
             if (aug_msim_frame(&ss->ref, &e)) fail_at(t, &e, rec);
             aug_kv_set(&tm, "fe_ms", 1e3 * (aug_now() - t0));
-            aug_kv_set(&st, "l2_err", l2_err(&ss->sim, &ss->ref));
+            aug_kv_set(&st, "l2_err", l2 = l2_err(&ss->sim, &ss->ref));
         }
+        if (o->monitor) monitor(t, ss, l2);
         aug_msim *s = &ss->sim;
         if (s->o.coupling == AUG_COUPLE_PPCG && !s->converged)
             fprintf(stderr, "%s: step %d, frame %d: ppcg did not converge (relres %.3g after %d iterations)\n",

@@ -595,13 +595,13 @@ int aug_msim_frame(aug_msim *s, aug_err *e)
     if (nred0 && s->o.basis != AUG_BASIS_IDENTITY && !(sv = save_state(s)))
         return aug_err_set(e, AUG_ENOMEM, -1, "fRAM", "out of memory");
     int rc = 0;
-again:
     s->events = s->step_events;
     s->step_events = 0;
     for (int di = 0; di < s->nd; di++) {
         if (!s->d[di].rebuilt && !s->d[di].hold) s->d[di].switched = 0;
         s->d[di].hold = 0;
     }
+again:;
     double t0 = aug_now();
     for (int di = 0; di < s->nd; di++)
         if ((rc = aug_mdomain_rhs(&s->d[di], &s->p, s->cm, e))) goto out;
