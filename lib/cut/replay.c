@@ -235,22 +235,22 @@ int aug_replay_end(const aug_replay *r, aug_err *e)
    factor) are not concerned. */
 static int steps_agree(aug_replay *r, const aug_rec *rec, aug_err *e)
 {
-    if (!memcmp(rec->type, "UPDT", 4) && r->kt_n > 0) {
-        /* formats/stream.md 7.2: H indexes K_{t-1}, of order DOFM's free
-           DOFs plus the k of every UPDT before (H ascending: its last entry
-           decides; the codec checked the record alone). solve-aug's cut
-           matrix refused one past it, refine and stats passed it on. */
-        aug_cur c;
-        aug_cur_init(&c, rec);
-        int32_t m = aug_cur_i32(&c), k = aug_cur_i32(&c), hmax = -1;
-        if (m > 0) aug_cur_i32v(&c, NULL, (uint64_t)m - 1), hmax = aug_cur_i32(&c);
-        if (c.ok && hmax >= r->kt_n)
-            return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
-                               "step %d: H[%d] = %d is not below the order %lld of the matrix before the step",
-                               (int)rec->step, (int)m - 1, (int)hmax, (long long)r->kt_n);
-        if (c.ok) r->kt_n += k;
-    }
     if (!memcmp(rec->type, "UPDT", 4)) {
+        if (r->kt_n > 0) {
+            /* formats/stream.md 7.2: H indexes K_{t-1}, of order DOFM's free
+               DOFs plus the k of every UPDT before (H ascending: its last
+               entry decides; the codec checked the record alone). solve-aug's
+               cut matrix refused one past it, refine and stats passed it on. */
+            aug_cur c;
+            aug_cur_init(&c, rec);
+            int32_t m = aug_cur_i32(&c), k = aug_cur_i32(&c), hmax = -1;
+            if (m > 0) aug_cur_i32v(&c, NULL, (uint64_t)m - 1), hmax = aug_cur_i32(&c);
+            if (c.ok && hmax >= r->kt_n)
+                return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
+                                   "step %d: H[%d] = %d is not below the order %lld of the matrix before the step",
+                                   (int)rec->step, (int)m - 1, (int)hmax, (long long)r->kt_n);
+            if (c.ok) r->kt_n += k;
+        }
         if (r->updt_step > 0 && rec->step <= r->updt_step)
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d, but the UPDT of step %d came before it",
                                (int)rec->step, (int)r->updt_step);

@@ -114,6 +114,31 @@ static void support_gram(const aug_mesh *m, const int32_t *comp, int64_t nc, dou
     }
 }
 
+/* The rigid motions a component's G (support_gram, nr x nr, overwritten)
+   leaves free: its null space, the eigenvectors (LAPACK dsyev) whose
+   eigenvalue is at most 1e-9 lambda_max(G), or every motion when G is 0
+   (*held 0: nothing constrains the component). Z (nr x nr, may be NULL):
+   the null vectors, column by column. Returns their count, -1 when dsyev
+   fails. */
+static int gram_null(int nr, double *G, double *Z, int *held)
+{
+    *held = 0;
+    for (int p = 0; p < nr; p++) *held |= G[p * nr + p] > 0;
+    if (!*held) {
+        for (int p = 0; Z && p < nr * nr; p++) Z[p] = p % (nr + 1) == 0;
+        return nr;
+    }
+    double w[6];
+    if (LAPACKE_dsyev(LAPACK_COL_MAJOR, Z ? 'V' : 'N', 'U', nr, G, nr, w) != 0) return -1;
+    int k = 0;
+    for (int p = 0; p < nr; p++) /* ascending: the null vectors first */
+        if (w[p] <= 1e-9 * w[nr - 1]) {
+            if (Z) memcpy(Z + k * nr, G + p * nr, (size_t)nr * sizeof *Z);
+            k++;
+        }
+    return k;
+}
+
 /* A component is held when no rigid motion r (dim 3: 6 modes, dim 2: 3; the null
    space of an unsupported linear-elastic K, [Zienkiewicz]) vanishes at all its
    constrained DOFs, i.e. G = sum_{constrained d} r_d r_d' (nr x nr) is
@@ -159,14 +184,8 @@ int aug_check_support(const aug_mesh *m, aug_err *e)
     for (int64_t el = m->ne - 1; el >= 0; el--) first_el[comp[m->conn[el * m->nv]]] = el;
     support_gram(m, comp, nc, acc, size);
     for (int64_t c = 0; c < nc; c++) {
-        double *G = acc + c * 40 + 4, w[6];
-        int any = 0;
-        for (int p = 0; p < nr; p++) any |= G[p * nr + p] > 0;
-        int freem = nr;
-        if (any && LAPACKE_dsyev(LAPACK_COL_MAJOR, 'N', 'U', nr, G, nr, w) == 0) {
-            freem = 0;
-            for (int p = 0; p < nr; p++) freem += w[p] <= 1e-9 * w[nr - 1];
-        }
+        int any, freem = gram_null(nr, acc + c * 40 + 4, NULL, &any);
+        if (freem < 0) freem = nr;
         if (freem == 0) continue;
         int64_t node = 0;
         while (comp[node] != c) node++;
@@ -195,8 +214,7 @@ done:
 
 /* The rigid motions the constraints leave free, on the free DOFs (map: node
    DOF -> free index or < 0, aug_dofmap): per component, the null space of its
-   G (support_gram; eigenvalues of dsyev at most 1e-9 lambda_max, all nr of
-   them when nothing holds it), each null vector z giving the motion
+   G (gram_null), each null vector z giving the motion
    sum_j z_j r_j, which vanishes at the component's constrained DOFs and is
    zero off the component. These are exact null vectors of a linear-elastic
    K (zero strain), eigenvectors of K x = lambda M x with lambda = 0
@@ -222,16 +240,8 @@ int64_t aug_free_rigid_modes(const aug_mesh *m, const int32_t *map, int64_t nfre
     if (nc > 0) support_gram(m, comp, nc, acc, size);
     int64_t total = 0;
     for (int64_t c = 0; c < nc; c++) {
-        double *G = acc + c * 40 + 4, w[6];
-        int any = 0;
-        for (int p = 0; p < nr; p++) any |= G[p * nr + p] > 0;
-        if (!any) { /* every rigid motion: the unit vectors */
-            for (int p = 0; p < nr * nr; p++) Z[c * 36 + p] = p % (nr + 1) == 0;
-            nz[c] = nr;
-        } else if (LAPACKE_dsyev(LAPACK_COL_MAJOR, 'V', 'U', nr, G, nr, w) == 0) {
-            for (int p = 0; p < nr; p++) /* ascending: the null vectors first */
-                if (w[p] <= 1e-9 * w[nr - 1]) memcpy(Z + c * 36 + nz[c]++ * nr, G + p * nr, (size_t)nr * sizeof *Z);
-        }
+        int held, k0 = gram_null(nr, acc + c * 40 + 4, Z + c * 36, &held);
+        nz[c] = k0 > 0 ? k0 : 0;
         total += nz[c];
     }
     if (total > kmax) total = kmax;

@@ -12,8 +12,7 @@ struct aug_gmres {
     double tol;
     int iters, converged;
     double sscale;       /* Schur tolerance / tol of the last solve whose
-                            whole field met tol (round_done) */
-    int learned;         /* sscale is from such a solve */
+                            whole field met tol (round_done); 0: none yet */
     double *spai;        /* tridiagonal S ~ K_0^-1: column j holds S(j-1,j), S(j,j), S(j+1,j) */
     int64_t nspai;
     /* per step */
@@ -41,7 +40,6 @@ aug_gmres *aug_gmres_new(int prec, int restart, int maxit, double tol, aug_err *
         return NULL;
     }
     g->prec = prec, g->restart = restart > 0 ? restart : 50, g->maxit = maxit, g->tol = tol;
-    g->sscale = 1;
     return g;
 }
 
@@ -375,7 +373,6 @@ static int round_done(aug_gmres *g, double rr, double *stol, int outer)
     if (rr <= g->tol) {
         g->converged = 1;
         g->sscale = *stol / g->tol;
-        g->learned = 1;
         return 1;
     }
     if (!g->converged || !(rr < INFINITY)) return g->converged = 0, 1;
@@ -397,7 +394,7 @@ int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat
                    const int32_t *out, int64_t nout, double *u, double times[4], aug_err *e)
 {
     double t0 = 1e3 * aug_now();
-    if (out && !g->learned) out = NULL, nout = 0;
+    if (out && !(g->sscale > 0)) out = NULL, nout = 0;
     if (setup(g, b, c, m, e)) return e->code;
     double t1 = 1e3 * aug_now();
     int64_t ns = c->ns;
