@@ -52,6 +52,10 @@ for t in meshload factor cut refine solve-aug stats; do
     [ -x $B/$t ] || { echo "organs.sh: $B/$t missing (make first)" >&2; exit 1; }
 done
 SUM=$O/organs_summary.csv; : > $SUM
+# the goals read every organs_SCENE_KIND_METHOD.csv in $O: those of an
+# earlier run (a scene skipped or left out of SCENES now) would be counted
+# beside this run's summary
+rm -f $O/organs_*_*_*.csv
 status=0
 
 # each method of METHODS (and extra runs "name:options") on stream $2, in

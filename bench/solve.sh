@@ -8,9 +8,9 @@
 # SCENES / STEPS / METHODS may be set in the environment; QUICK=1 runs brick_n8 only.
 cd "$(dirname "$0")/.." || exit 2
 B=bin; S=build/scenes; O=bench/out; mkdir -p $O
+if [ "${QUICK:-0}" = 1 ]; then SCENES=${SCENES:-brick_n8}; STEPS=${STEPS:-16}; fi
 STEPS=${STEPS:-64}
 METHODS=${METHODS:-amps,gmres,refactor,rowupdate,pcg}
-if [ "${QUICK:-0}" = 1 ]; then SCENES=${SCENES:-brick_n8}; STEPS=${STEPS:-16}; fi
 SCENES=${SCENES:-"beam_h64 beam_h256 beam_h1024 brick_n8 brick_n12 brick_n16 brick_n20"}
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 echo "scene,n,method,steps,median_ms,rate_hz,ratio_full_solve,amps_speedup,max_relres,median_iters,max_closure,converged" > $O/solve_summary.csv

@@ -38,6 +38,7 @@ PARTS=${PARTS:-"t52 t54 kiri kiri_dense kiri_s"}
 part() { case " $PARTS " in *" $1 "*) return 0 ;; esac; return 1; }
 OUT=bench/out; TMP=build/bench/thesis
 mkdir -p $OUT $TMP
+: > $TMP/started # the files this run writes are newer (the final message)
 for t in meshload factor cut refine solve-aug stats; do
     [ -x bin/$t ] || { echo "thesis.sh: bin/$t missing (make first)" >&2; exit 1; }
 done
@@ -217,4 +218,7 @@ if [ $np -gt 0 ] && command -v gnuplot > /dev/null; then
 elif [ $np -eq 0 ]; then
     echo "thesis.sh: PARTS=\"$PARTS\" has no plotted part (t52, kiri, kiri_s): no thesis.png" >&2
 fi
-echo "thesis.sh: wrote $C52 $C54 $CK $CS $CM$PNG"
+# the CSVs this run wrote (PARTS: the others are an earlier run's, or none)
+W=""
+for f in $C52 $C54 $CK $CS $CM; do [ -f $f ] && [ $f -nt $TMP/started ] && W="$W $f"; done
+echo "thesis.sh: wrote$W$PNG"

@@ -301,7 +301,9 @@ int main(int argc, char **argv)
         aug_cut_step_free(&st);
         aug_progress(&t, k, o.steps);
     }
-    if (o.pathfile && nseg == 0) aug_tool_die(&t, "%s: --path %s misses the mesh", t.inname, o.pathfile);
+    if (o.pathfile && nseg == 0)
+        aug_tool_die(&t, "%s: --path %s cuts nothing: no part of it crosses an element edge (it misses the mesh, "
+                     "or stays within one element)", t.inname, o.pathfile);
     if (sfile && bcut.nface == 0) aug_tool_die(&t, "%s: %s %s misses the mesh (it cuts no face)", t.inname, sopt, sfile);
     aug_blade_cut_free(&bcut);
     aug_cutsurf_free(&o.surf);

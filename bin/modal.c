@@ -426,6 +426,11 @@ int main(int argc, char **argv)
         }
     }
     aug_tool_check(&t, aug_replay_end(&rp, &e), &e);
+    /* nothing to simulate: no frame would be written (modal(1): a stream
+       without cut steps needs --lead or --settle) */
+    if (!ss.started && o.lead == 0 && o.settle == 0 && o.lma == 0)
+        aug_tool_die(&t, "%s: the stream has no cut step: give --lead N or --settle N (frames on the intact mesh)",
+                     t.inname);
     if (!ss.started) start(&t, &o, &rp, &ss, &rec);
     if (o.settle > 0) frames(&t, &o, &rp, &ss, o.settle, &rec);
     aug_tool_close(&t);

@@ -127,7 +127,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_INT("--refine-iter", &so->refine_iter, 0, 100, "0 to 100")},
         {AUG_OPT_REAL("--refine-tol", &so->refine_tol, 0, 1, "a number in [0, 1)"),
          .flags = AUG_OPT_HI_OPEN, .given = &nrtol},
-        {AUG_OPT_REAL("--fail-tol", &so->fail_tol, 0, 1, "a number in [0, 1)"), .flags = AUG_OPT_HI_OPEN},
+        {AUG_OPT_REAL("--fail-tol", &so->fail_tol, 0, 1, "a number in (0, 1)"), .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
         {AUG_OPT_REAL("--amps-target", &so->amps_target, 0, 1, "a number in [0, 1)"),
          .flags = AUG_OPT_HI_OPEN},
         {AUG_OPT_INT("--amps-correct", &so->amps_correct, 0, 10, "0 to 10")},
@@ -397,9 +397,15 @@ int main(int argc, char **argv)
     dyn dy;
     memset(&dy, 0, sizeof dy);
     while (aug_tool_read(&t, &rec)) {
+        int perstep = !memcmp(rec.type, "MDLT", 4) || !memcmp(rec.type, "BDLT", 4) ||
+                      !memcmp(rec.type, "UPKM", 4) || !memcmp(rec.type, "UPDT", 4);
+        /* a static stream is known by its first step (DYNP comes before):
+           refused there, not after solving every step */
+        if (perstep && !sys.dynamic && (o.settle || o.nframes))
+            aug_tool_die(&t, "%s: record %ld (%s): --frames and --settle need a dynamic stream (factor --dynamic)",
+                         t.inname, rec.index, rec.type);
         /* the state starts on the original mesh, before the first step's records */
-        if (sys.dynamic && !dy.started && (!memcmp(rec.type, "MDLT", 4) || !memcmp(rec.type, "BDLT", 4) ||
-                                           !memcmp(rec.type, "UPKM", 4) || !memcmp(rec.type, "UPDT", 4)))
+        if (sys.dynamic && !dy.started && perstep)
             start(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
         aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
         aug_tool_check(&t, aug_sys0_add(&sys, &rec, &e), &e);

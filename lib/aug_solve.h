@@ -430,6 +430,10 @@ int aug_gmres_prepare(aug_gmres *g, const aug_base *b, const aug_cum *c, const a
                       aug_err *e);
 int aug_gmres_iters(const aug_gmres *g);
 int aug_gmres_converged(const aug_gmres *g);
+/* the last aug_gmres_step's output set: 1 when the step computed the whole
+   field for it (its round at the learnt Schur tolerance stalled, or none
+   learnt yet), 0 the output values only, -1 no output set */
+int aug_gmres_whole(const aug_gmres *g);
 int64_t aug_gmres_closure_j(const aug_gmres *g);
 int64_t aug_gmres_closure_h(const aug_gmres *g);
 

@@ -28,7 +28,10 @@ if [ "$1" = "--item" ]; then
     dir=$2 idx=$3 kind=$4 mode=$5 path=$6 prefix=$7
     export AUG_BIN="$PWD/bin"
     if [ "$mode" = asan ]; then
-        export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+        # (no address-space cap holds ASan's shadow: one allocation above
+        # 4 GiB fails instead, as meshload's cap on its gmsh child would)
+        export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:max_allocation_size_mb=4096:allocator_may_return_null=1
+        export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
         export LSAN_OPTIONS="print_suppressions=0"
         [ "$kind" = shell ] && export AUG_BIN="$PWD/$B/asan/bin"
     fi

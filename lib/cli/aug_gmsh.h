@@ -20,6 +20,13 @@
 int aug_gmsh_read(const char *path, aug_tagged *t, aug_err *e);
 void aug_gmsh_free(aug_tagged *t);
 
+/* An MSH 2 file's physical groups as its elements give them (the first tag
+   of each; 0: none), where gmsh's, attached to elementary entities,
+   differ: t's groups get the file's element and node tags (msh2_groups.c;
+   in gmsh's child, gmsh initialised). 0 also for a file that is not MSH 2,
+   or an error code (memory). */
+int aug_msh2_groups(const char *path, aug_tagged *t, aug_err *e);
+
 /* The child's reply (tagged_pipe.c): code 0 and t, or an error code and e's
    message. send returns 0 or -1 (write failed). recv returns 0 with t filled
    (free it with aug_gmsh_free), the child's error code with e filled, or -1

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <gmshc.h>
@@ -33,6 +34,13 @@ static int check_file(const char *path, aug_err *e)
 {
     FILE *f = fopen(path, "rb");
     if (!f) return aug_err_set(e, AUG_EIO, -1, "", "%s", strerror(errno));
+    struct stat st;
+    /* gmsh opens the file by name and seeks in it: a pipe (/dev/stdin of
+       cat f.msh |) read as "truncated" */
+    if (fstat(fileno(f), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return aug_err_set(e, AUG_EDATA, -1, "", "not a regular file (gmsh reads a file by its name, not a pipe)");
+    }
     char head[12] = {0}, tail[257] = {0};
     size_t n = fread(head, 1, 11, f), m = 0;
     if (!ferror(f) && fseek(f, 0, SEEK_END) == 0) {
@@ -54,6 +62,9 @@ static int check_file(const char *path, aug_err *e)
         return aug_err_set(e, AUG_EDATA, -1, "", "truncated: the file does not end with a $End... line");
     return 0;
 }
+
+static unsigned long long gmsh_cap(const char *path);
+static const char *cap_note(const char *path, char note[96]);
 
 static int gmsh_error(aug_err *e, const char *what)
 {
@@ -95,9 +106,11 @@ static int check_log(size_t *declared, aug_err *e)
         s = s ? s + 2 : log[i];
         pos = -1;
         if (!rc && sscanf(s, "Skipping duplicate node %zu", &tag) == 1)
-            rc = aug_err_set(e, AUG_EDATA, -1, "", "node tag %zu appears twice", tag);
+            rc = aug_err_set(e, AUG_EDATA, -1, "", "node tag %zu appears twice (or as a tag of 2^32 or more, which gmsh "
+                             "reads modulo 2^32)", tag);
         else if (!rc && sscanf(s, "Skipping duplicate element %zu", &tag) == 1)
-            rc = aug_err_set(e, AUG_EDATA, -1, "", "element tag %zu appears twice", tag);
+            rc = aug_err_set(e, AUG_EDATA, -1, "", "element tag %zu appears twice (or as a tag of 2^32 or more, which "
+                             "gmsh reads modulo 2^32)", tag);
         else if (!strncmp(log[i], "Info: ", 6) && sscanf(s, "%zu element%n", &tag, &pos) == 1 &&
                  pos > 0 && (!s[pos] || !strcmp(s + pos, "s")))
             *declared += tag;
@@ -253,8 +266,8 @@ static int check_count(size_t declared, aug_err *e)
     gmshFree(types);
     if (declared > held)
         return aug_err_set(e, AUG_EDATA, -1, "",
-                           "the file declares %zu elements but %zu have distinct tags: an element tag appears twice",
-                           declared, held);
+                           "the file's $Elements headers declare %zu elements but gmsh holds %zu: a count past the "
+                           "elements given, or an element tag that appears twice", declared, held);
     return 0;
 }
 
@@ -313,7 +326,14 @@ static int read_model(const char *path, aug_tagged *t, aug_err *e)
     int ierr, rc;
     size_t declared;
     gmshOpen(path, &ierr);
-    if (ierr) return gmsh_error(e, "read it");
+    if (ierr) {
+        gmsh_error(e, "read it");
+        char note[96];
+        if (!strcmp(e->msg, "gmsh could not read it")) /* no reason given: out of memory, as a rule */
+            aug_err_set(e, AUG_EDATA, -1, "", "gmsh could not read it (out of memory%s: a count in the file past "
+                        "its data?)", cap_note(path, note));
+        return e->code;
+    }
     if ((rc = check_log(&declared, e)) || (rc = mesh_type(&t->etype, e))) return rc;
     double *pc = NULL;
     size_t ncoord, npc;
@@ -336,18 +356,63 @@ static int read_model(const char *path, aug_tagged *t, aug_err *e)
     for (size_t i = 0; i + 1 < ndt && !rc; i += 2)
         rc = read_group(dt[i], dt[i + 1], t->etype, topdim, &t->groups[t->ngroup++], e);
     gmshFree(dt);
+    /* an MSH 2 file's groups per element, not per entity (msh2_groups.c) */
+    if (!rc) rc = aug_msh2_groups(path, t, e);
     return rc;
 }
 
+/* The address space the gmsh child may take (bytes): 2 GiB plus 64 bytes
+   per byte of the file (gmsh holds a mesh in a few times its text), or
+   AUG_GMSH_MEM_MB MiB. A count in the file is believed by gmsh before the
+   data behind it: one number changed in a 230-byte .msh (1,174,405,122
+   elements) took the child past 12 GB of the shared machine before it
+   failed; capped, it fails at once. */
+static unsigned long long gmsh_cap(const char *path)
+{
+#if defined(__SANITIZE_ADDRESS__)
+    /* ASan reserves terabytes of address space for its shadow: no cap of
+       it can hold (tests/run.sh gives the ASan tools max_allocation_size_mb
+       instead) */
+    (void)path;
+    return 0;
+#endif
+    const char *env = getenv("AUG_GMSH_MEM_MB");
+    char *end;
+    if (env && *env) {
+        unsigned long long mb = strtoull(env, &end, 10);
+        if (*end == 0 && mb > 0 && mb < (1ull << 40)) return mb << 20;
+    }
+    struct stat st;
+    unsigned long long size = stat(path, &st) == 0 && st.st_size > 0 ? (unsigned long long)st.st_size : 0;
+    return (2ull << 30) + (size < (1ull << 50) / 64 ? 64 * size : 1ull << 50);
+}
+
+/* note := " at the cap of N MiB (AUG_GMSH_MEM_MB)", or "" without a cap */
+static const char *cap_note(const char *path, char note[96])
+{
+    unsigned long long cap = gmsh_cap(path);
+    if (cap) snprintf(note, 96, " at the cap of %llu MiB (AUG_GMSH_MEM_MB)", cap >> 20);
+    else note[0] = 0;
+    return note;
+}
+
 /* The child: gmsh reads the file with its messages kept (stdout and stderr
-   on /dev/null, no core file) and the reply goes to fd. Never returns. */
+   on /dev/null, no core file, its address space capped: gmsh_cap) and the
+   reply goes to fd. Never returns. */
 static void child(const char *path, int fd)
 {
     aug_tagged t;
     aug_err e;
     int ierr, rc, null = open("/dev/null", O_WRONLY);
-    struct rlimit nocore = {0, 0};
+    struct rlimit nocore = {0, 0}, as;
     setrlimit(RLIMIT_CORE, &nocore);
+    rlim_t cap = (rlim_t)gmsh_cap(path);
+    if (cap > 0 && getrlimit(RLIMIT_AS, &as) == 0) {
+        if (as.rlim_cur == RLIM_INFINITY || as.rlim_cur > cap) {
+            as.rlim_cur = cap;
+            setrlimit(RLIMIT_AS, &as);
+        }
+    }
     if (null < 0 || dup2(null, 1) < 0 || dup2(null, 2) < 0) _exit(3);
     close(null);
     memset(&t, 0, sizeof t);
@@ -393,10 +458,15 @@ int aug_gmsh_read(const char *path, aug_tagged *t, aug_err *e)
         }
     if (status == 0 && rc >= 0) return rc;
     aug_gmsh_free(t);
+    char note[96];
+    cap_note(path, note);
+    /* an abort (an uncaught bad_alloc) may be the cap; a SIGSEGV is gmsh's own */
+    if (status != -1 && WIFSIGNALED(status) && WTERMSIG(status) == SIGABRT)
+        return aug_err_set(e, AUG_EDATA, -1, "", "gmsh failed to read the file (signal %d: out of memory%s? a count "
+                           "in the file past its data?)", WTERMSIG(status), note);
     if (status != -1 && WIFSIGNALED(status))
         return aug_err_set(e, AUG_EDATA, -1, "", "gmsh failed to read the file (signal %d)", WTERMSIG(status));
     if (status != -1 && WIFEXITED(status) && WEXITSTATUS(status))
-        return aug_err_set(e, AUG_EDATA, -1, "", "gmsh failed to read the file (exit status %d)",
-                           WEXITSTATUS(status));
+        return aug_err_set(e, AUG_EDATA, -1, "", "gmsh failed to read the file (exit status %d)", WEXITSTATUS(status));
     return aug_err_set(e, AUG_EIO, -1, "", "gmsh failed to read the file (its reply is incomplete)");
 }

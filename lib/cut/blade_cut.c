@@ -303,7 +303,16 @@ static int seg_crosses(aug_blade_cut *bc, const double *p, const double *q)
    whose centroid lay farther from the surface than tol times its longest
    side (a node snaps within tol times the crossing edge's length, which can
    be longer), left bridges across a surface through the whole mesh:
-   sphere3 and the liver cut by a flat blade in split mode stayed one piece. */
+   sphere3 and the liver cut by a flat blade in split mode stayed one piece.
+   The face's nodes stand for the surface only to within tol of their
+   edges: with a large --snap-tol a whole layer of nodes snaps onto a blade
+   that runs between them and the centroids next to it, and no centroid
+   segment reaches the blade (the brick_n4 cut at y = 0.32 with T >= 0.28:
+   the nodes at y = 0.25 snapped, the centroids above at y = 0.3125, "misses
+   the mesh"; the liver at T 0.4 one piece). So the face is also cut when
+   the segment between the two tets' fourth nodes crosses the surface, a
+   tet flat on the surface (its fourth node on it too) represented by its
+   centroid. */
 static int split_cut(void *ctx, const aug_edit *ed, int32_t a, int32_t b, const int32_t *f, int nf)
 {
     aug_blade_cut *bc = ctx;
@@ -314,6 +323,20 @@ static int split_cut(void *ctx, const aug_edit *ed, int32_t a, int32_t b, const 
     centroid(ed, a, ca);
     centroid(ed, b, cb);
     int rc = seg_crosses(bc, ca, cb);
+    if (rc == 0) {
+        const double *px[2] = {ca, cb};
+        int32_t el[2] = {a, b};
+        int off = 0;
+        for (int s = 0; s < 2; s++) {
+            const int32_t *c = aug_edit_conn(ed, el[s]);
+            for (int k = 0; k < 4; k++)
+                if (c[k] != f[0] && c[k] != f[1] && c[k] != f[2] && !on_get(bc, ed, c[k])) {
+                    px[s] = aug_edit_x(ed, c[k]);
+                    off = 1;
+                }
+        }
+        if (off) rc = seg_crosses(bc, px[0], px[1]);
+    }
     if (rc < 0) bc->oom = 1; /* reported by split_step: not a face left whole */
     return rc == 1;
 }

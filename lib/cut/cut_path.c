@@ -22,12 +22,18 @@ typedef struct walk {
     aug_err *e;
 } walk;
 
+/* the least snap tolerance of a path cut (cut(1) --snap-tol) */
+#define PATH_TOL_MIN 1e-9
+
 int aug_path_cut_init(aug_path_cut *pc, const aug_path *path, int mode, double tol)
 {
     memset(pc, 0, sizeof *pc);
     pc->path = path;
     pc->mode = mode;
-    pc->tol = tol;
+    /* at least PATH_TOL_MIN: a path through a node (or along a row of
+       nodes) meets it at s = 0 only up to rounding, and --snap-tol 0 made
+       a new node there, on top of the old one (a zero-area triangle) */
+    pc->tol = tol > PATH_TOL_MIN ? tol : PATH_TOL_MIN;
     pc->kappa = 1;
     pc->node = -1;
     pc->curve = -1;

@@ -87,7 +87,8 @@ int aug_plane_plan(aug_plane_cut *pc, const aug_mesh *m, const aug_adj *adj, con
     if (nplus == 0 || nplus == m->ne || pc->nface == 0) {
         free(mark);
         aug_plane_free(pc);
-        return aug_err_set(e, AUG_EDATA, -1, "", "the plane %g,%g,%g,%g does not cut the mesh",
+        return aug_err_set(e, AUG_EDATA, -1, "", "the plane %.17g,%.17g,%.17g,%.17g does not cut the mesh (it "
+                           "parts no two neighbouring elements by their centroids)",
                            n[0], n[1], dim == 3 ? n[2] : 0.0, d);
     }
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};

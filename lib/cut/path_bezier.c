@@ -28,6 +28,12 @@ int aug_curve_homog(const aug_curve *c, double (*h)[3], const double **hp)
    remain and H^(k) = n!/(n-k)! Delta^k r_0 (H''' = 0 below degree 3); then
    B = X/W and, from X = B W by Leibniz, B' = (X' - B W')/W,
    B'' = (X'' - 2 B' W' - B W'')/W, B''' = (X''' - 3 B'' W' - 3 B' W'' - B W''')/W.
+   The curve is evaluated relative to its first control point o (B - o
+   from the points w_i (x_i - o), then o added to B): the derivatives do not
+   depend on where the curve lies, but the quotient rule above takes
+   differences of terms of the size of B, and a circle of radius 0.2 at
+   1e6 from the origin had its constant curvature read with a relative noise
+   above 1e-9, so cut put curvature maxima on it (aug_curve_kappa_max).
    d1, d2, d3 may be NULL. */
 void aug_curve_jet(const aug_curve *c, double t, double b[2], double d1[2], double d2[2], double d3[2])
 {
@@ -35,6 +41,9 @@ void aug_curve_jet(const aug_curve *c, double t, double b[2], double d1[2], doub
     const double *hp;
     int n = aug_curve_homog(c, hh, &hp);
     memcpy(q, hp, (size_t)(n + 1) * 3 * sizeof(double));
+    double o[2] = {q[0][0] / q[0][2], q[0][1] / q[0][2]};
+    for (int i = 0; i <= n; i++)
+        for (int j = 0; j < 2; j++) q[i][j] -= q[i][2] * o[j];
     double s = 1 - t;
     for (int k = 0; k <= n; k++) {
         if (k > 0)
@@ -55,7 +64,7 @@ void aug_curve_jet(const aug_curve *c, double t, double b[2], double d1[2], doub
     for (int k = 0; k < 2; k++) {
         double W = H[0][2], bk = H[0][k] / W, b1 = (H[1][k] - bk * H[1][2]) / W;
         double b2 = (H[2][k] - 2 * b1 * H[1][2] - bk * H[2][2]) / W;
-        if (b) b[k] = bk;
+        if (b) b[k] = bk + o[k];
         if (d1) d1[k] = b1;
         if (d2) d2[k] = b2;
         if (d3) d3[k] = (H[3][k] - 3 * b2 * H[1][2] - 3 * b1 * H[2][2] - bk * H[3][2]) / W;

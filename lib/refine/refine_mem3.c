@@ -429,14 +429,16 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
     double thmin = r->opt.min_angle_given ? r->opt.min_angle : 0;
     /* a triangle with an angle th has l_max / l_min >= 1 / (2 sin(th/2)) */
     double thasp = r->opt.max_aspect > 0.5 ? 2 * asin(1 / (2 * r->opt.max_aspect)) * 180 / M_PI : 0;
-    int64_t budget = r->opt.max_new > 0 ? r->opt.max_new : aug_refine_default_cap(d->nmod + d->nadd, 3), nodes0 = ed.nnew;
+    /* refine(1) --max-new: new nodes of the folded step, the cut's and the
+       region's included (as 2-D and 3-D count them) */
+    int64_t budget = r->opt.max_new > 0 ? r->opt.max_new : aug_refine_default_cap(d->nmod + d->nadd, 3);
     for (int64_t k = 0; k < nw; k++) {
         int lng;
         int64_t t = work[k];
         if (!bad(&ed, t, &r->opt, &lng) || hopeless_mem3(&ed, r->borig, t, aspect_bad(&ed, t, &r->opt) ? thasp / 2 : thmin)) continue;
         int32_t pa, pb;
         if (lepp(&ed, t, &pa, &pb)) continue;
-        if (ed.nnew - nodes0 >= budget) {
+        if (ed.nnew >= budget) {
             q->capped = 1;
             break;
         }
@@ -475,12 +477,20 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
         work[nw++] = t;
         for (int32_t i = 0; i < ed.adj->cnt[nr]; i++) work[nw++] = ed.adj->list[nr][i];
     }
-    q->nodes = ed.nnew - nodes0;
-    q->added = ed.nadd - d->nadd;
-    /* figures of the elements the folded step writes */
+    /* the folded MDLT's nnew and nadd (aug_edit_end), as 2-D and 3-D count
+       them: the cut's own nodes and triangles included (the bisections'
+       alone were counted, and a region that re-triangulated the cut's
+       pieces into fewer counted elems_added -2) */
+    q->nodes = ed.nnew;
+    q->added = ed.nadd;
+    /* figures of the elements the folded step writes: a re-wired element
+       whose connectivity is back to what it was is not written
+       (aug_edit_end) and not counted */
     int64_t cnt = 0;
     for (int64_t i = 0; i < ed.nmod + ed.nadd; i++) {
         int64_t t = i < ed.nmod ? ed.mod_elem[i] : ed.ne0 + (i - ed.nmod);
+        if (i < ed.nmod && !memcmp(aug_edit_conn(&ed, t), ed.mod_old + (int64_t)i * 3, 3 * sizeof(int32_t)))
+            continue;
         int lng;
         tri_geom(&ed, t, &a, &m, n);
         q->aspect_mean += a, q->aspect_max = fmax(q->aspect_max, a);

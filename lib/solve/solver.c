@@ -540,6 +540,7 @@ static void gmres_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_
     put(st, "k", (double)(s->cum.n - s->cum.nb));
     put(st, "closure_j", (double)aug_gmres_closure_j(s->gm));
     put(st, "closure_h", (double)aug_gmres_closure_h(s->gm));
+    if (aug_gmres_whole(s->gm) >= 0) put(st, "whole", (double)aug_gmres_whole(s->gm));
     put(tm, "setup", r->t[0]), put(tm, "rhs", r->t[1]), put(tm, "iter", r->t[2]), put(tm, "solve", r->t[3]);
 }
 
@@ -728,9 +729,10 @@ static void auto_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
     put(st, "choice", a->choice);
     put(st, "reason", a->reason);
     put(st, "on_base", a->on_base);
-    put(st, "est_amps_ms", a->est_amps);
-    put(st, "est_factor_ms", a->est_factor);
-    put(st, "excess_ms", a->excess);
+    /* estimates from measured times: tIMe, not sTAt (formats 7.4) */
+    put(tm, "est_amps_ms", a->est_amps);
+    put(tm, "est_factor_ms", a->est_factor);
+    put(tm, "excess_ms", a->excess);
     if (s->o.horizon > 0 || (s->o.horizon < 0 && s->plan_last > 0)) put(st, "steps_left", (double)steps_left(s));
     put(st, "bg_start", a->want_bg);
     put(st, "est_s2_flops", a->w_next);
@@ -938,7 +940,10 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
     if (m == AUG_M_AUTO && r.ran) aug_auto_observe(&s->au, total, s->amps.schur.flops, s->amps.schur.na);
     put(st, "iters", r.iters);
     put(st, "refine", nref);
-    if (!r.sing && !q->full && (op->flags & M_BASED) && (rc = fill_rest(s, m, op, q, r.x, e))) return rc;
+    /* (gmres: not when its output set's round stalled and the step went
+       on to the whole field, aug_gmres_whole) */
+    int whole = m == AUG_M_GMRES && aug_gmres_whole(s->gm) == 1;
+    if (!r.sing && !q->full && !whole && (op->flags & M_BASED) && (rc = fill_rest(s, m, op, q, r.x, e))) return rc;
     double rr = r.sing ? NAN : !isnan(rref) ? rref : aug_cutmat_relres(&s->cut, r.x);
     /* a direct method that cannot reach fail_tol, even refined, met a
        numerically singular K_t: report it, never the number; a non-finite

@@ -581,6 +581,14 @@ static int is_frame_row(const aug_steprow *r)
    relres, the median time of a frame's solve, of a step's work (its rows
    without frame), and frames per second = 1000 / (frame median + step median
    * steps / frames); then the frames' time span and energy range. */
+
+/* v as %.4g, or "-" when it is NaN (no such value in the records) */
+static void g4(char buf[32], double v)
+{
+    if (!isnan(v)) snprintf(buf, 32, "%.4g", v);
+    else snprintf(buf, 32, "-");
+}
+
 static int print_frames(FILE *o, const aug_summary *s)
 {
     const aug_steptab *t = &s->tab;
@@ -619,10 +627,14 @@ static int print_frames(FILE *o, const aug_summary *s)
             }
         }
         if (!nf) continue;
-        double fm = aug_median(tf, nt), sm = ns ? aug_median(ts, ns) : 0;
+        double fm = nt ? aug_median(tf, nt) : NAN, sm = ns ? aug_median(ts, ns) : 0;
         double per = fm + sm * (double)ns / (double)nf;
-        fprintf(o, "  %-12s %7zu %13.4g %13.4g %9zu %14.4g %14.4g %10.4g\n", mth, nf, aug_median(rr, nr),
-                nr ? rmax : NAN, fail, fm, ns ? sm : NAN, 1000.0 / per);
+        /* "-" where the records hold no such value (no timed step: a
+           stream without cut steps, or read with --no-times) */
+        char c[5][32];
+        g4(c[0], nr ? aug_median(rr, nr) : NAN), g4(c[1], nr ? rmax : NAN), g4(c[2], fm);
+        g4(c[3], ns ? sm : NAN), g4(c[4], 1000.0 / per);
+        fprintf(o, "  %-12s %7zu %13s %13s %9zu %14s %14s %10s\n", mth, nf, c[0], c[1], fail, c[2], c[3], c[4]);
     }
     double t0 = NAN, t1 = NAN, emin = INFINITY, emax = -INFINITY, e0 = NAN, e1 = NAN;
     for (size_t i = 0; i < t->n; i++) {

@@ -8,11 +8,11 @@ usage: refine_quality.py OUT.aug [--min-angle D] [--max-aspect A] [--max-new N]
 
 For every step with refine's qUAl, on the elements the folded step wrote (the
 MDLT's re-wired and added elements, in the mesh after the step):
-- 2-D: the angles (law of cosines) and longest / shortest edge; 3-D: the six
+- 2-D and sheets (mem3): the angles (law of cosines) and longest / shortest edge; 3-D: the six
   dihedral angles (between the two faces at each edge, from the other two
   corners projected normal to the edge) and R / (3 r) (circumcentre solved
   here, r = 3 V / surface); their minimum and maximum equal qUAl's min_angle
-  (min_dihedral) and aspect_max to 1e-9, nodes_added and elems_added the MDLT's
+  (min_dihedral), aspect_max and aspect_mean to 1e-9, nodes_added and elems_added the MDLT's
   counts;
 - --min-angle D (2-D): no written triangle has an angle below D, except in a
   corner between two constrained edges (open: boundary or cut) sharper than D;
@@ -134,6 +134,7 @@ def main():
     m = augstream.mesh(recs)
     cm = cutsys.CutMesh(m)
     dim, nv = cm.dim, cm.nv
+    tri = nv == 3  # 2-D and sheets (mem3: triangles in 3-D)
     qual = {s: augstream.kv(p)[1] for t, fl, s, p in recs if t == "qUAl" and augstream.kv(p)[0] == "refine"}
     if not qual:
         fail("no qUAl of refine")
@@ -149,20 +150,23 @@ def main():
             continue
         q = qual[s]
         written = list(d["elem"]) + list(range(ne0, len(cm.conn)))
-        mina, maxa, figs = 180.0 if written else 0.0, 0.0, []
+        mina, maxa, suma, figs = 180.0 if written else 0.0, 0.0, 0.0, []
         for e in written:
             P = [cm.x[v] for v in cm.conn[e]]
-            ang = tri_angles(P) if dim == 2 else dihedrals(P)
-            asp = tri_aspect(P) if dim == 2 else tet_aspect(P)
+            ang = tri_angles(P) if tri else dihedrals(P)
+            asp = tri_aspect(P) if tri else tet_aspect(P)
             figs.append((e, ang, asp))
-            mina, maxa = min(mina, min(ang)), max(maxa, asp)
-        key = "min_angle" if dim == 2 else "min_dihedral"
+            mina, maxa, suma = min(mina, min(ang)), max(maxa, asp), suma + asp
+        key = "min_angle" if tri else "min_dihedral"
         if not written:  # no element written: no quality figures (not 0)
             if key in q or "aspect_max" in q:
                 fail("step %d: qUAl %s / aspect_max over no written element" % (s, key))
         elif not (abs(q[key] - mina) <= 1e-9 * max(1.0, mina) and abs(q["aspect_max"] - maxa) <= 1e-9 * max(1.0, maxa)):
             fail("step %d: qUAl %s %.17g aspect_max %.17g, the written elements have %.17g and %.17g"
                  % (s, key, q[key], q["aspect_max"], mina, maxa))
+        elif not abs(q["aspect_mean"] - suma / len(written)) <= 1e-9 * max(1.0, suma / len(written)):
+            fail("step %d: qUAl aspect_mean %.17g, the %d written elements %.17g"
+                 % (s, q["aspect_mean"], len(written), suma / len(written)))
         if q["nodes_added"] != len(d["parent"]) or q["elems_added"] != len(d["cadd"]):
             fail("step %d: qUAl nodes_added %g elems_added %g, MDLT %d and %d"
                  % (s, q["nodes_added"], q["elems_added"], len(d["parent"]), len(d["cadd"])))
