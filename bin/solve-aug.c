@@ -259,6 +259,14 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys,
                              "(relres %.3g)", t->inname, rec->index, rec->type, (int)step,
                              (int)d->frame + 1, aug_method_names[mth],
                              aug_kv_get(aug_solver_stat(s, mth), "relres", NAN));
+            /* the first method's frame is the state the next one starts
+               from: one it did not solve (pcg or gmres not converged) ends
+               the run as a singular one does, no fRAM or rEAC written as
+               if it were solved (formats/stream.md 7.3) */
+            if (!aug_solver_converged(s, mth) && mth == first && (mth == AUG_M_PCG || mth == AUG_M_GMRES))
+                aug_tool_die(t, "%s: record %ld (%s): step %d, frame %d: %s did not converge (relres %.3g): the "
+                             "frames go on from its field", t->inname, rec->index, rec->type, (int)step,
+                             (int)d->frame + 1, aug_method_names[mth], aug_kv_get(aug_solver_stat(s, mth), "relres", NAN));
             if (!aug_solver_converged(s, mth))
                 fprintf(stderr, "%s: step %d, frame %d: %s did not converge (relres %.3g)\n",
                         t->prog, (int)step, (int)d->frame + 1, aug_method_names[mth],

@@ -97,6 +97,10 @@ typedef struct aug_work {
     int32_t *mod_old;    /* their connectivity at aug_work_begin */
     int32_t *parent;     /* new nodes' parents (nn - nn_begin of them) */
     int64_t capparent;
+    int32_t *cre;        /* per node, 4 slots: the nodes a refinement node was
+                            made from (a midpoint: its edge's ends; a centroid:
+                            the four corners; a copy: its original), -1 unused;
+                            all -1 for the cut's own and the original nodes */
     int64_t max_new;     /* refinement stops adding nodes beyond this many per step
                             (0: the options' max_new, else 200000) */
     const int32_t *keep; /* 3-D, or NULL: per owner tag (< nkeep), the last step that
@@ -107,6 +111,9 @@ int aug_work_init(aug_work *w, const aug_mesh *m);   /* copies geometry; builds 
 void aug_work_free(aug_work *w);
 void aug_work_begin(aug_work *w, int32_t step);
 int32_t aug_work_node(aug_work *w, const double *x, int32_t parent);  /* -1: memory */
+/* node was made from c[0..n) (n <= 4; refiner.c fix_inserted: it is
+   constrained where all of them are) */
+void aug_work_creators(aug_work *w, int32_t node, const int32_t *c, int n);
 int aug_work_set(aug_work *w, int64_t e, const int32_t *conn);       /* 0 / AUG_E* */
 int64_t aug_work_add(aug_work *w, const int32_t *conn, int32_t mat, double area0); /* -1 */
 /* 2-D: triangle across edge {a, b} from triangle t, -1 if none (boundary). */

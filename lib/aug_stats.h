@@ -103,7 +103,8 @@ double aug_steprow_get(const aug_steprow *r, const char *key, int *found);
    row lacks the key. */
 int aug_steptab_csv(FILE *out, const aug_steptab *t, aug_err *e);
 
-/* Median of v[0..n-1] (sorts v in place); NAN when n = 0. */
+/* the median of v[0..n) (reordered in place), NaN entries left out; NaN when
+   none is left */
 double aug_median(double *v, size_t n);
 
 /* Stream summary: fed every record, keeps counts, the mesh (with the mesh

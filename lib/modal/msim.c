@@ -334,7 +334,20 @@ static int saddle_build(aug_msim *s, aug_err *e)
         s->sad = calloc(1, sizeof *s->sad);
         if (!s->sad || aug_saddle_init(s->sad, cm, e)) return e->code ? e->code : NOMEM(e);
     }
-    return aug_saddle_set(s->sad, s->nd, s->blk, s->C, 1, e);
+    /* the blocks of domains with free DOFs: a domain held whole (a clamped
+       material, a slab of --split with every node fixed) has no unknowns
+       and no interface row, and the saddle solvers take no empty block
+       ("block 2 has size 0": --coupling schur and ppcg refused what direct
+       solves) */
+    aug_sblock *nb = malloc((size_t)(s->nd + 1) * sizeof *nb);
+    if (!nb) return NOMEM(e);
+    int k = 0;
+    for (int di = 0; di < s->nd; di++)
+        if (s->blk[di].n > 0) nb[k++] = s->blk[di];
+    int rc = k > 0 ? aug_saddle_set(s->sad, k, nb, s->C, 1, e)
+                   : aug_err_set(e, AUG_ESINGULAR, -1, "MODE", "no domain has a free DOF");
+    free(nb);
+    return rc;
 }
 
 static int saddle_solve(aug_msim *s, aug_err *e)

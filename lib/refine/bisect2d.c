@@ -156,6 +156,7 @@ static int bisect(aug_work *w, int32_t a, int32_t b, const aug_parent_rule *pr, 
     double mid[2] = {0.5 * (X(w, a)[0] + X(w, b)[0]), 0.5 * (X(w, a)[1] + X(w, b)[1])};
     int32_t m = aug_work_node(w, mid, par);
     if (m < 0) return AUG_ENOMEM;
+    aug_work_creators(w, m, (int32_t[2]){a, b}, 2);
     if (aug_work_edge_fixed(w, a, b)) {
         aug_edgemap_del(&w->fixed, a, b);
         if (!aug_edgemap_put(&w->fixed, a, m) || !aug_edgemap_put(&w->fixed, m, b)) return AUG_ENOMEM;
@@ -221,6 +222,7 @@ static int centroid(aug_work *w, int64_t t1, int64_t t2, int32_t a, int32_t b,
     }
     int32_t m = aug_work_node(w, c, par);
     if (m < 0) return AUG_ENOMEM;
+    aug_work_creators(w, m, q4, 4);
     int32_t c1[3] = {p, q, m}, c2[3] = {q, x, m}, c3[3] = {x, p, m};
     int rc = aug_work_set(w, t, c1);
     if (rc) return rc;

@@ -126,6 +126,7 @@ static int split(ctx3 *c, int32_t a, int32_t b)
     for (int k = 0; k < 3; k++) mid[k] = 0.5 * (X(w, a)[k] + X(w, b)[k]);
     int32_t m = aug_work_node(w, mid, par);
     if (m < 0) return AUG_ENOMEM;
+    aug_work_creators(w, m, (int32_t[2]){a, b}, 2);
     if (w->m.ne + ns + 1 > c->caplev) {
         int64_t cap = 2 * (w->m.ne + ns + 1);
         unsigned char *l = aug_realloc(c->lev, (size_t)cap);

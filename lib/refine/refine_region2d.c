@@ -626,6 +626,7 @@ static int separate_fine(reg *g)
                     free(fcopy);
                     return NOMEM(g);
                 }
+                aug_work_creators(g->W, fcopy[x], &g->l2w[x], 1);
                 fv[j] = fcopy[x];
             }
         }

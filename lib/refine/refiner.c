@@ -155,6 +155,57 @@ static int32_t *scores(const aug_mesh *m)
     return s;
 }
 
+/* The constraints a step adds (BDLT: --constrain, --drag, a piece dropped
+   or pinned) name the cut's nodes; the nodes refine made (midpoints,
+   centroids, copies: aug_work_creators) lie among them and were left free:
+   a box constrained by cut kept 108 of its 577 refined nodes free (|u| up
+   to 8e-4 where cut alone gives 0), a dropped piece of the liver six (0.043).
+   Such a node takes, per component, the constraint all the nodes it was
+   made from have after the step (refine(1): a node on an edge of the fixed
+   boundary is fixed), at their mean value (exact for a midpoint under a
+   linear or uniform prescribed motion), in node order (its makers come
+   first). The state before the step is the base's FIXD, a node new in this
+   step inheriting its parent's (formats/stream.md 7.1). */
+static int fix_inserted(const aug_refiner *r, aug_bdelta *out, aug_err *e)
+{
+    const aug_work *W = &r->work;
+    int dim = r->base.dim;
+    int64_t nn = W->m.nn, nb = r->base.nn;
+    double *v = aug_malloc((size_t)(nn * dim + 1) * sizeof *v);
+    if (!v) return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
+    for (int64_t j = 0; j < nn; j++)
+        for (int c = 0; c < dim; c++) {
+            double x;
+            int32_t p = j < nb ? -1 : W->parent[j - W->nn_begin];
+            v[j * dim + c] = j < nb ? (aug_mesh_fixed(&r->base, (int32_t)(j * dim + c), &x) ? x : NAN)
+                                    : (p >= 0 && p < j ? v[(int64_t)p * dim + c] : NAN);
+        }
+    for (int64_t i = 0; i < out->nfix; i++)
+        if (out->fix_dof[i] >= 0 && out->fix_dof[i] < nn * dim) v[out->fix_dof[i]] = out->fix_val[i];
+    int rc = 0;
+    for (int64_t j = 0; j < nn && !rc; j++) {
+        const int32_t *cr = W->cre + j * 4;
+        if (cr[0] < 0) continue;
+        for (int c = 0; c < dim && !rc; c++) {
+            if (!isnan(v[j * dim + c])) continue;
+            double sum = 0;
+            int k = 0;
+            for (; k < 4 && cr[k] >= 0; k++) {
+                double y = v[(int64_t)cr[k] * dim + c];
+                if (isnan(y)) break;
+                sum += y;
+            }
+            if (k == 4 || cr[k] < 0) {
+                v[j * dim + c] = sum / k;
+                if (aug_bdelta_fix(out, (int32_t)(j * dim + c), sum / k))
+                    rc = aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
+            }
+        }
+    }
+    free(v);
+    return rc;
+}
+
 static int translate_bc(const aug_refiner *r, const aug_bdelta *bc, aug_bdelta *out, aug_err *e)
 {
     int dim = r->cut.dim;
@@ -174,8 +225,9 @@ static int translate_bc(const aug_refiner *r, const aug_bdelta *bc, aug_bdelta *
                 return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
         }
     }
+    int rc = bc->nfix > 0 ? fix_inserted(r, out, e) : 0;
     aug_bdelta_finish(out);
-    return 0;
+    return rc;
 }
 
 /* which of the n old elements (connectivity oldc in mesh m) holds point p */

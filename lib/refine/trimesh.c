@@ -12,6 +12,10 @@ static int grow_nodes(aug_work *w, int64_t need)
     double *x = aug_realloc(w->m.x, (size_t)(cap * w->m.dim) * sizeof *x);
     if (!x) return -1;
     w->m.x = x;
+    int32_t *cr = aug_realloc(w->cre, (size_t)(cap * 4) * sizeof *cr);
+    if (!cr) return -1;
+    for (int64_t i = w->capn * 4; i < cap * 4; i++) cr[i] = -1;
+    w->cre = cr;
     if (w->m.dim == 3) {
         int32_t **l = aug_realloc(w->nel, (size_t)cap * sizeof *l);
         if (!l) return -1;
@@ -146,6 +150,7 @@ void aug_work_free(aug_work *w)
     free(w->mod);
     free(w->mod_old);
     free(w->parent);
+    free(w->cre);
     if (w->nel)
         for (int64_t i = 0; i < w->capn; i++) free(w->nel[i]);
     free(w->nel);
@@ -179,6 +184,11 @@ int32_t aug_work_node(aug_work *w, const double *x, int32_t parent)
     if (w->m.dim == 3) w->ncnt[w->m.nn] = 0;
     w->parent[k] = parent;
     return (int32_t)w->m.nn++;
+}
+
+void aug_work_creators(aug_work *w, int32_t node, const int32_t *c, int n)
+{
+    for (int k = 0; k < 4; k++) w->cre[(int64_t)node * 4 + k] = k < n ? c[k] : -1;
 }
 
 static int record_mod(aug_work *w, int64_t e)

@@ -80,6 +80,12 @@ double aug_steprow_get(const aug_steprow *r, const char *key, int *found)
    even n; NAN for n = 0) */
 double aug_median(double *v, size_t n)
 {
+    /* NaN (a singular step's relres: no number) is no value: left out (it
+       was sorted in, and the median of 3.6e-14, nan, nan read nan) */
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++)
+        if (!isnan(v[i])) v[k++] = v[i];
+    n = k;
     if (n == 0) return NAN;
     for (size_t i = 1; i < n; i++) /* insertion sort: tables are small */
         for (size_t j = i; j > 0 && v[j - 1] > v[j]; j--) {

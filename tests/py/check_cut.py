@@ -168,7 +168,8 @@ def polygon_nodes(n, poly, x, nodes):
         for i in range(len(q)):
             a, b = q[i], q[i - 1]
             e = (b[0] - a[0], b[1] - a[1])
-            t = max(0.0, min(1.0, ((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / (e[0] ** 2 + e[1] ** 2)))
+            ee = e[0] ** 2 + e[1] ** 2  # 0: a repeated vertex (in projection)
+            t = max(0.0, min(1.0, ((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / ee)) if ee > 0 else 0.0
             if math.dist(p, (a[0] + t * e[0], a[1] + t * e[1])) <= tol:
                 return True
             if (a[1] > p[1]) != (b[1] > p[1]) and p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]:
