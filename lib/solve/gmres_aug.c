@@ -30,6 +30,8 @@ struct aug_gmres {
     int64_t nrows;
     int32_t *c1, *c2, *c12;
     int64_t n1, n2, n12;
+    double *sig;         /* per position p of S: Kbar's diagonal on a new DOF,
+                            |K_t(q,q)| (1 if 0), 1 on a base DOF (setup) */
     double *M;           /* preconditioner H'SJ, LU */
     int *ipiv;
     int prec_ok;
@@ -51,7 +53,8 @@ aug_gmres *aug_gmres_new(int prec, int restart, int maxit, double tol, aug_err *
 static void free_step(aug_gmres *g)
 {
     free(g->Jp), free(g->Ji), free(g->Jx), free(g->rows), free(g->c1), free(g->c2), free(g->c12);
-    free(g->M), free(g->ipiv), free(g->b), free(g->y), free(g->mark);
+    free(g->M), free(g->ipiv), free(g->b), free(g->y), free(g->mark), free(g->sig);
+    g->sig = NULL;
     g->Jp = NULL, g->Ji = NULL, g->Jx = NULL, g->rows = NULL, g->c1 = g->c2 = g->c12 = NULL;
     g->M = NULL, g->ipiv = NULL, g->b = g->y = NULL, g->mark = NULL, g->jcap = 0;
 }
@@ -134,7 +137,7 @@ static double sapprox(const aug_gmres *g, const aug_base *b, int64_t r, int64_t 
 }
 
 /* out = H' Kbar^-1 J v (paper 000 eq. 20): forward over closure(J), backward over
-   closure(H); new DOFs pass through (Kbar^-1 = I there) */
+   closure(H); on new DOFs Kbar^-1 = 1 / sig (setup) */
 static void apply_a(aug_gmres *g, const aug_base *b, const aug_cum *c, const double *v, double *out)
 {
     double *bb = g->b, *y = g->y;
@@ -149,7 +152,7 @@ static void apply_a(aug_gmres *g, const aug_base *b, const aug_cum *c, const dou
     aug_ldl_ltsolve(b, g->c2, g->n2, y);
     for (int64_t p = 0; p < g->ns; p++) {
         int32_t i = c->S[p];
-        out[p] = i < c->nb ? y[b->pinv[i]] : bb[i];
+        out[p] = i < c->nb ? y[b->pinv[i]] : bb[i] / g->sig[p];
     }
 }
 
@@ -212,6 +215,21 @@ static int setup(aug_gmres *g, const aug_base *b, const aug_cum *c, const aug_cu
         memcpy(g->Jx + g->Jp[p], val, (size_t)nz * sizeof *val);
         g->Jp[p + 1] = g->Jp[p] + nz;
     }
+    /* Kbar = blkdiag(K_b, Sigma), sigma_q = |K_t(q,q)| on the new DOFs (all
+       of them in S: any block there keeps K_t = Kbar off S), not the I of
+       paper 000: with I the Schur system's rows of new DOFs are K_t's scale
+       (E times the element size) against O(1) for the base rows, and GMRES,
+       not invariant under row scaling, failed once E was in pascals (the
+       brick at E = 1e9: relres 1.5 after 3 iterations, converged at 1e6;
+       as amps_schur.c new_scale) */
+    g->sig = aug_malloc((size_t)(ns + 1) * sizeof *g->sig);
+    if (!g->sig) goto nomem;
+    for (int64_t p = 0; p < ns; p++) {
+        g->sig[p] = 1;
+        if (c->S[p] < c->nb) continue;
+        for (int64_t t = g->Jp[p]; t < g->Jp[p + 1]; t++)
+            if (g->Ji[t] == c->S[p] && g->Jx[t] != 0) g->sig[p] = fabs(g->Jx[t]);
+    }
     /* struct(J) and the closures (paper 000 sec. 3.3) */
     g->nrows = 0;
     for (int64_t k = 0; k < g->Jp[ns]; k++)
@@ -241,7 +259,7 @@ static int setup(aug_gmres *g, const aug_base *b, const aug_cum *c, const aug_cu
                 for (int64_t d = -1; d <= 1; d++) {
                     int64_t r = i + d;
                     if (r < 0 || r >= c->n || r >= c->pcap || c->pos[r] < 0) continue;
-                    double s = sapprox(g, b, r, i);
+                    double s = i < c->nb ? sapprox(g, b, r, i) : r == i ? 1.0 / g->sig[c->pos[i]] : 0;
                     if (s != 0) g->M[c->pos[r] + bq * ns] += s * g->Jx[t];
                 }
             }
@@ -422,7 +440,7 @@ int aug_gmres_step(aug_gmres *g, const aug_base *b, const aug_cum *c, aug_cutmat
     aug_ldl_ltsolve(b, g->c2, g->n2, y);
     for (int64_t p = 0; p < ns; p++) {
         int32_t i = c->S[p];
-        rhs[p] = i < c->nb ? b->a[i] + y[b->pinv[i]] : c->dF[p];
+        rhs[p] = i < c->nb ? b->a[i] + y[b->pinv[i]] : c->dF[p] / g->sig[p];
     }
     double t2 = 1e3 * aug_now(), t3 = t2, ts = 0, stol = g->tol * (out ? g->sscale : 1);
     g->iters = 0;
@@ -523,7 +541,7 @@ int aug_gmres_solve_general(aug_gmres *g, const aug_base *b, const aug_cum *c, a
     }
     aug_ldl_solve_full(b, r, x, work);
     for (int64_t i = c->nb; i < c->n; i++) x[i] = r[i];
-    for (int64_t p = 0; p < ns; p++) rhs[p] = x[c->S[p]];
+    for (int64_t p = 0; p < ns; p++) rhs[p] = c->S[p] < c->nb ? x[c->S[p]] : x[c->S[p]] / g->sig[p];
     g->iters = 0;
     double stol = g->tol;
     for (int outer = 0;; outer++) {
