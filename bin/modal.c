@@ -147,6 +147,12 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
 /* a library error at record rec (named by it when the library named none) */
 static void fail_at(aug_tool *t, aug_err *e, const aug_rec *rec)
 {
+    /* an option that does not fit the stream (--domains, --reduce) names
+       the option, not the record being read when it was found (TAIL) */
+    if (e->code == AUG_EUSAGE && !strncmp(e->msg, "--", 2)) {
+        e->record = -1, e->type[0] = 0;
+        aug_tool_fail(t, e);
+    }
     e->record = rec->index;
     if (!e->type[0] || !strcmp(e->type, "MODE")) memcpy(e->type, rec->type, 5);
     aug_tool_fail(t, e);
