@@ -410,8 +410,7 @@ int main(int argc, char **argv)
     rp.output = o.output;
     while (aug_tool_read(&t, &rec)) {
         /* the simulation starts on the original mesh, before the first step's records */
-        if (!ss.started && (!memcmp(rec.type, "MDLT", 4) || !memcmp(rec.type, "BDLT", 4) ||
-                            !memcmp(rec.type, "UPKM", 4) || !memcmp(rec.type, "UPDT", 4)))
+        if (!ss.started && aug_rec_changes_step(&rec))
             start(&t, &o, &rp, &ss, &rec);
         aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
         if (!o.fe_cholmod) aug_tool_check(&t, aug_sys0_add(&ss.sys, &rec, &e), &e);

@@ -405,8 +405,7 @@ int main(int argc, char **argv)
     dyn dy;
     memset(&dy, 0, sizeof dy);
     while (aug_tool_read(&t, &rec)) {
-        int perstep = !memcmp(rec.type, "MDLT", 4) || !memcmp(rec.type, "BDLT", 4) ||
-                      !memcmp(rec.type, "UPKM", 4) || !memcmp(rec.type, "UPDT", 4);
+        int perstep = aug_rec_changes_step(&rec);
         /* a static stream is known by its first step (DYNP comes before):
            refused there, not after solving every step */
         if (perstep && !sys.dynamic && (o.settle || o.nframes))

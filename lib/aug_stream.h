@@ -106,6 +106,10 @@ typedef struct aug_rectype {
     const aug_codec *codec;
 } aug_rectype;
 const aug_rectype *aug_rectype_find(const char *type);
+/* 1 when rec is a record a cut step's changes come in (MDLT, BDLT, UPKM,
+   UPDT: formats/stream.md 7; the first of a step ends the original
+   system's records) */
+int aug_rec_changes_step(const aug_rec *rec);
 /* The i-th row of the record table, NULL past its end. */
 const aug_rectype *aug_rectype_at(size_t i);
 

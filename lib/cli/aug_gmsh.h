@@ -20,6 +20,13 @@
 int aug_gmsh_read(const char *path, aug_tagged *t, aug_err *e);
 void aug_gmsh_free(aug_tagged *t);
 
+/* The dimension (-1: a type gmsh does not know), node count (0 then) and
+   name ("?") of gmsh element type `type`; nnodes and name may be NULL. Needs
+   gmsh initialised (the child of aug_gmsh_read). */
+void aug_gmsh_type(int type, int *dim, int *nnodes, char name[AUG_NAME]);
+/* qsort comparator of size_t (gmsh's tags) */
+int aug_cmp_size(const void *a, const void *b);
+
 /* An MSH 2 file's physical groups as its elements give them (the first tag
    of each; 0: none), where gmsh's, attached to elementary entities,
    differ: t's groups get the file's element and node tags (msh2_groups.c;

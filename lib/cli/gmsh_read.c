@@ -66,27 +66,33 @@ static int check_file(const char *path, aug_err *e)
 static unsigned long long gmsh_cap(const char *path);
 static const char *cap_note(const char *path, char note[96]);
 
-static int gmsh_error(aug_err *e, const char *what)
+/* "gmsh could not WHAT: gmsh's last error", or " (NONE)" after WHAT when gmsh
+   gave no reason (none NULL: nothing) */
+static int gmsh_error_or(aug_err *e, const char *what, const char *none)
 {
     char *msg = NULL;
     int ierr;
     gmshLoggerGetLastError(&msg, &ierr);
-    aug_err_set(e, AUG_EDATA, -1, "", "gmsh could not %s%s%s", what, msg && msg[0] ? ": " : "",
-                msg ? msg : "");
+    if (msg && msg[0]) aug_err_set(e, AUG_EDATA, -1, "", "gmsh could not %s: %s", what, msg);
+    else aug_err_set(e, AUG_EDATA, -1, "", "gmsh could not %s%s%s%s", what, none ? " (" : "", none ? none : "",
+                     none ? ")" : "");
     gmshFree(msg);
     return e->code;
 }
 
+static int gmsh_error(aug_err *e, const char *what) { return gmsh_error_or(e, what, NULL); }
+
 /* the name and dimension of a gmsh element type (dim -1 when gmsh does not know it) */
-static void type_info(int type, int *dim, char name[AUG_NAME])
+void aug_gmsh_type(int type, int *dim, int *nnodes, char name[AUG_NAME])
 {
     char *s = NULL;
     double *lc = NULL;
     size_t nlc;
-    int order, nnodes, nprim, ierr;
-    gmshModelMeshGetElementProperties(type, &s, dim, &order, &nnodes, &lc, &nlc, &nprim, &ierr);
-    snprintf(name, AUG_NAME, "%s", !ierr && s ? s : "?");
+    int order, nn, nprim, ierr;
+    gmshModelMeshGetElementProperties(type, &s, dim, &order, &nn, &lc, &nlc, &nprim, &ierr);
+    if (name) snprintf(name, AUG_NAME, "%s", !ierr && s ? s : "?");
     if (ierr) *dim = -1;
+    if (nnodes) *nnodes = ierr ? 0 : nn;
     gmshFree(s);
     gmshFree(lc);
 }
@@ -131,7 +137,7 @@ static int mesh_type(int *etype, aug_err *e)
     if (ierr) return gmsh_error(e, "list the element types");
     int dims[64];
     for (size_t i = 0; i < n && i < 64; i++) {
-        type_info(types[i], &dims[i], name);
+        aug_gmsh_type(types[i], &dims[i], NULL, name);
         if (dims[i] > top) top = dims[i];
     }
     for (size_t i = 0; i < n && i < 64; i++)
@@ -141,7 +147,7 @@ static int mesh_type(int *etype, aug_err *e)
     for (size_t i = 0; i < n && i < 64 && !rc; i++)
         if (dims[i] == top && types[i] != *etype && !(top == 3 && types[i] == AUG_TET4)) {
             int d;
-            type_info(types[i], &d, name);
+            aug_gmsh_type(types[i], &d, NULL, name);
             rc = aug_err_set(e, AUG_EDATA, -1, "",
                              "element type %d (%s) is not supported: a %d-D mesh must be all %s",
                              types[i], name, top, top == 3 ? "tet4 or all hex8" : "tri3");
@@ -195,7 +201,7 @@ static size_t family_count(int type)
     return ierr ? 0 : nb / 3;
 }
 
-static int cmp_size(const void *a, const void *b)
+int aug_cmp_size(const void *a, const void *b)
 {
     size_t x = *(const size_t *)a, y = *(const size_t *)b;
     return x < y ? -1 : x > y;
@@ -208,7 +214,7 @@ static size_t foreign_element(int etype, int dim, const size_t *known, size_t n,
     size_t *k = malloc((n ? n : 1) * sizeof *k), j = 0;
     if (!k) return 0;
     memcpy(k, known, n * sizeof *k);
-    qsort(k, n, sizeof *k, cmp_size);
+    qsort(k, n, sizeof *k, aug_cmp_size);
     for (size_t tag = 1, tries = 0; tries < (1u << 18); tag++) {
         while (j < n && k[j] < tag) j++;
         if (j < n && k[j] == tag) continue;
@@ -219,7 +225,7 @@ static size_t foreign_element(int etype, int dim, const size_t *known, size_t n,
         gmshModelMeshGetElement(tag, type, &nodes, &nn, &ierr);
         gmshFree(nodes);
         if (ierr || *type == etype) continue;
-        type_info(*type, &d, name);
+        aug_gmsh_type(*type, &d, NULL, name);
         if (d == dim) {
             free(k);
             return tag;
@@ -242,7 +248,7 @@ static int check_orders(int etype, const size_t *et, size_t nelem, aug_err *e)
     size_t tag = foreign_element(etype, dim, et, nelem, &type);
     if (tag) {
         char name[AUG_NAME];
-        type_info(type, &dim, name);
+        aug_gmsh_type(type, &dim, NULL, name);
         return aug_err_set(e, AUG_EDATA, -1, "",
                            "element type %d (%s) is not supported: a %d-D mesh must be all %s "
                            "(gmsh tag %zu, among %s elements)", type, name, dim, want, tag, want);
@@ -326,13 +332,10 @@ static int read_model(const char *path, aug_tagged *t, aug_err *e)
     int ierr, rc;
     size_t declared;
     gmshOpen(path, &ierr);
-    if (ierr) {
-        gmsh_error(e, "read it");
-        char note[96];
-        if (!strcmp(e->msg, "gmsh could not read it")) /* no reason given: out of memory, as a rule */
-            aug_err_set(e, AUG_EDATA, -1, "", "gmsh could not read it (out of memory%s: a count in the file past "
-                        "its data?)", cap_note(path, note));
-        return e->code;
+    if (ierr) { /* no reason given: out of memory, as a rule */
+        char note[96], why[160];
+        snprintf(why, sizeof why, "out of memory%s: a count in the file past its data?", cap_note(path, note));
+        return gmsh_error_or(e, "read it", why);
     }
     if ((rc = check_log(&declared, e)) || (rc = mesh_type(&t->etype, e))) return rc;
     double *pc = NULL;

@@ -13,7 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <gmshc.h>
 #include "aug_gmsh.h"
 
 typedef struct {
@@ -35,14 +34,9 @@ static int type_props(msh2_file *f, int type, int *dim, int *nn)
 {
     if (type <= 0 || type >= 128) return -1;
     if (!f->props[type][1]) {
-        char *name = NULL;
-        double *lc = NULL;
-        size_t nlc;
-        int d, order, n, np, ierr;
-        gmshModelMeshGetElementProperties(type, &name, &d, &order, &n, &lc, &nlc, &np, &ierr);
-        gmshFree(name);
-        gmshFree(lc);
-        if (ierr || n <= 0) return -1;
+        int d, n;
+        aug_gmsh_type(type, &d, &n, NULL);
+        if (d < 0 || n <= 0) return -1;
         f->props[type][0] = d, f->props[type][1] = n;
     }
     *dim = f->props[type][0], *nn = f->props[type][1];
@@ -127,16 +121,10 @@ static int read_elements(FILE *in, msh2_file *f)
     return 0;
 }
 
-static int cmp_size(const void *a, const void *b)
-{
-    size_t x = *(const size_t *)a, y = *(const size_t *)b;
-    return (x > y) - (x < y);
-}
-
 /* a[0..n) sorted, repeats removed; returns the new count */
 static size_t sort_unique(size_t *a, size_t n)
 {
-    qsort(a, n, sizeof *a, cmp_size);
+    qsort(a, n, sizeof *a, aug_cmp_size);
     size_t k = 0;
     for (size_t i = 0; i < n; i++)
         if (!k || a[i] != a[k - 1]) a[k++] = a[i];
@@ -153,6 +141,15 @@ static int same_set(const size_t *a, size_t n, const size_t *s, size_t ns)
     int same = k == ns && (k == 0 || !memcmp(c, s, k * sizeof *c));
     free(c);
     return same;
+}
+
+/* a malloc'd copy of a[0..n) (the child's reply takes it; gmsh's array it
+   replaces is left: the child exits), NULL on memory */
+static size_t *copy_tags(const size_t *a, size_t n)
+{
+    size_t *p = malloc((n + 1) * sizeof *p);
+    if (p && n) memcpy(p, a, n * sizeof *p);
+    return p;
 }
 
 static int msh_type_of(int etype)
@@ -196,22 +193,15 @@ int aug_msh2_groups(const char *path, aug_tagged *t, aug_err *e)
             break;
         }
         /* the elements only where gmsh listed them (the mesh's dimension) */
-        if (!se && g->dim == aug_etype_dim(t->etype)) {
-            size_t *p = malloc((ne + 1) * sizeof *p);
-            if (!p) rc = aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
-            else {
-                if (ne) memcpy(p, en, ne * sizeof *p);
-                g->elem_tags = p, g->nelem = ne; /* gmsh's array: the child exits */
-            }
+        int we = !se && g->dim == aug_etype_dim(t->etype), wn = !sn;
+        size_t *pe = we ? copy_tags(en, ne) : NULL, *pn = wn ? copy_tags(nn, nv) : NULL;
+        if ((we && !pe) || (wn && !pn)) {
+            free(pe), free(pn);
+            rc = aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
+            break;
         }
-        if (!sn && !rc) {
-            size_t *p = malloc((nv + 1) * sizeof *p);
-            if (!p) rc = aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
-            else {
-                if (nv) memcpy(p, nn, nv * sizeof *p);
-                g->node_tags = p, g->nnode = nv;
-            }
-        }
+        if (we) g->elem_tags = pe, g->nelem = ne;
+        if (wn) g->node_tags = pn, g->nnode = nv;
     }
     free(f.el), free(f.nodes), free(en), free(nn);
     return rc;

@@ -610,7 +610,7 @@ static int print_frames(FILE *o, const aug_summary *s)
         while (j < i && strncmp(t->row[j].method, mth, 16) != 0) j++;
         if (j < i) continue;
         size_t nf = 0, nr = 0, nt = 0, ns = 0, fail = 0;
-        double rmax = -INFINITY;
+        double rmax = NAN; /* fmax skips it: NaN while no relres is a number */
         for (j = i; j < t->n; j++) {
             const aug_steprow *r = &t->row[j];
             int f, fr = is_frame_row(r);
@@ -627,13 +627,12 @@ static int print_frames(FILE *o, const aug_summary *s)
             }
         }
         if (!nf) continue;
-        double fm = nt ? aug_median(tf, nt) : NAN, sm = ns ? aug_median(ts, ns) : 0;
+        double fm = aug_median(tf, nt), sm = ns ? aug_median(ts, ns) : 0;
         double per = fm + sm * (double)ns / (double)nf;
         /* "-" where the records hold no such value (no timed step: a
            stream without cut steps, or read with --no-times) */
         char c[5][32];
-        g4(c[0], nr ? aug_median(rr, nr) : NAN), g4(c[1], nr ? rmax : NAN), g4(c[2], fm);
-        g4(c[3], ns ? sm : NAN), g4(c[4], 1000.0 / per);
+        g4(c[0], aug_median(rr, nr)), g4(c[1], rmax), g4(c[2], fm), g4(c[3], ns ? sm : NAN), g4(c[4], 1000.0 / per);
         fprintf(o, "  %-12s %7zu %13s %13s %9zu %14s %14s %10s\n", mth, nf, c[0], c[1], fail, c[2], c[3], c[4]);
     }
     double t0 = NAN, t1 = NAN, emin = INFINITY, emax = -INFINITY, e0 = NAN, e1 = NAN;
@@ -713,7 +712,7 @@ static int print_methods(FILE *o, const aug_summary *s)
         while (j < i && strncmp(t->row[j].method, t->row[i].method, 16) != 0) j++;
         if (j < i || !strncmp(t->row[i].method, "dynamics", 16)) continue; /* printed, or frames */
         size_t nst = 0, nr = 0, nt = 0, fail = 0;
-        double rmax = -INFINITY;
+        double rmax = NAN; /* fmax skips it: NaN while no relres is a number */
         for (j = i; j < t->n; j++) {
             const aug_steprow *r = &t->row[j];
             if (strncmp(r->method, t->row[i].method, 16) != 0 || is_frame_row(r)) continue;
@@ -730,12 +729,8 @@ static int print_methods(FILE *o, const aug_summary *s)
         }
         if (!nst && !nt) continue; /* frame rows only (modal, lma): their own tables */
         char c[4][32]; /* "-" where the records have no such value */
-        double med = aug_median(rr, nr), tmed = aug_median(tm, nt);
-        double v[4] = {med, rmax, tmed, 1000.0 / tmed};
-        int have[4] = {nr > 0, nr > 0, nt > 0, nt > 0};
-        for (int k = 0; k < 4; k++)
-            if (have[k]) snprintf(c[k], sizeof c[k], "%.4g", v[k]);
-            else snprintf(c[k], sizeof c[k], "-");
+        double tmed = aug_median(tm, nt);
+        g4(c[0], aug_median(rr, nr)), g4(c[1], rmax), g4(c[2], tmed), g4(c[3], 1000.0 / tmed);
         fprintf(o, "  %-12s %6zu %13s %13s %9zu %14s %12s\n", t->row[i].method, nst, c[0], c[1],
                 fail, c[2], c[3]);
     }

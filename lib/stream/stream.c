@@ -62,6 +62,12 @@ static const aug_rectype table[] = {
     {"TAIL", 8, 8, 4, 1, 0, &aug_codec_tail},
 };
 
+int aug_rec_changes_step(const aug_rec *rec)
+{
+    return !memcmp(rec->type, "MDLT", 4) || !memcmp(rec->type, "BDLT", 4) || !memcmp(rec->type, "UPKM", 4) ||
+           !memcmp(rec->type, "UPDT", 4);
+}
+
 const aug_rectype *aug_rectype_find(const char *type)
 {
     for (size_t i = 0; i < sizeof table / sizeof table[0]; i++)
@@ -205,6 +211,14 @@ static int inflate_payload(aug_rec *rec, const unsigned char *src, uint64_t srcl
     return 0;
 }
 
+/* a payload of len bytes against its type's bounds (table): 0 or AUG_ELEN */
+static int check_len(const aug_rectype *t, uint64_t len, int64_t index, const char *type, aug_err *e)
+{
+    if (len >= t->minlen && len <= t->maxlen) return 0;
+    return aug_err_set(e, AUG_ELEN, index, type, "payload of %llu bytes outside [%llu, %llu]",
+                       (unsigned long long)len, (unsigned long long)t->minlen, (unsigned long long)t->maxlen);
+}
+
 /* Read one raw record into rec (framing, CRC, body header, inflate). */
 static int read_record(aug_reader *r, aug_rec *rec, aug_err *e)
 {
@@ -269,10 +283,7 @@ static int read_record(aug_reader *r, aug_rec *rec, aug_err *e)
            check_known does after): a 2 MB pROv stating 2 GiB took 8.9 s and
            2.1 GB to inflate before being refused */
         const aug_rectype *t = aug_rectype_find(rec->type);
-        if (t && (rawlen < t->minlen || rawlen > t->maxlen))
-            return aug_err_set(e, AUG_ELEN, r->count, rec->type, "payload of %llu bytes outside [%llu, %llu]",
-                               (unsigned long long)rawlen, (unsigned long long)t->minlen,
-                               (unsigned long long)t->maxlen);
+        if (t && check_len(t, rawlen, r->count, rec->type, e)) return e->code;
         if (inflate_payload(rec, body + BODY_HDR, blen - BODY_HDR, rawlen, e)) return e->code;
     } else {
         if (rawlen != blen - BODY_HDR)
@@ -296,11 +307,7 @@ static int check_known(aug_reader *r, const aug_rec *rec, aug_err *e)
                                "unknown critical record type");
         return 0;
     }
-    if (rec->len < t->minlen || rec->len > t->maxlen)
-        return aug_err_set(e, AUG_ELEN, rec->index, rec->type,
-                           "payload of %llu bytes outside [%llu, %llu]",
-                           (unsigned long long)rec->len, (unsigned long long)t->minlen,
-                           (unsigned long long)t->maxlen);
+    if (check_len(t, rec->len, rec->index, rec->type, e)) return e->code;
     size_t ti = (size_t)(t - table);
     if (t->once && r->seen_once[ti])
         return aug_err_set(e, AUG_EORDER, rec->index, rec->type, "record repeated");
