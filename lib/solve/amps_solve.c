@@ -810,8 +810,12 @@ int aug_amps_solve_general(aug_amps *a, const aug_base *b, const aug_cum *c,
     for (int64_t i = c->nb; i < c->n; i++) x[i] = r[i];
     for (int64_t p = 0; p < c->ns; p++)
         if (c->S[p] >= c->nb) x[c->S[p]] += wp[p];
-    for (int64_t aq = 0; aq < s->na; aq++)
-        if (c->S[s->A[aq]] >= c->nb) x[c->S[s->A[aq]]] = xa[aq];
+    /* S2's pivot: new DOFs of A take a2; ALT's w there (eq. 3.17) came
+       without r (pivot_solve's f is NULL: r is in z on base positions), so
+       they keep r + w from the loop above */
+    if (a->pivot_used != AUG_PIVOT_ALT)
+        for (int64_t aq = 0; aq < s->na; aq++)
+            if (c->S[s->A[aq]] >= c->nb) x[c->S[s->A[aq]]] = xa[aq];
     unit_rows(a, c, NULL, 0, r, x);
     return 0;
 }
