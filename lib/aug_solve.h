@@ -746,7 +746,8 @@ const char *aug_solver_opts_conflict(const aug_solver_opts *o);
    the factor L0 of KMAT/FVEC/FACT, in one cholmod_common that the struct owns,
    and the solver made from them at the first update, once they agree: orders
    equal to DOFM's free count, and L0 a factor of K0 (the relres of its solve
-   of f0 at most AUG_SYS0_TOL), else an error naming both records. */
+   of f0 at most AUG_SYS0_TOL, or what cond(K0) allows, below), else an
+   error naming both records. */
 typedef struct aug_sys0 {
     cholmod_common *cm;
     cholmod_sparse *K0;
@@ -764,6 +765,10 @@ typedef struct aug_sys0 {
 } aug_sys0;
 /* largest relres of K0 L0^-1 f0 that lets a FACT pass as K0's factor */
 #define AUG_SYS0_TOL 1e-4
+/* ... or AUG_SYS0_COND cond(K0) eps (estimated when the relres passes
+   AUG_SYS0_TOL), at most 1e-2; a step's direct solve fails above
+   max(fail_tol, AUG_SYS0_COND x that relres), at most 1e-2 */
+#define AUG_SYS0_COND 100.0
 int aug_sys0_init(aug_sys0 *s, aug_err *e);
 void aug_sys0_free(aug_sys0 *s);
 int aug_sys0_add(aug_sys0 *s, const aug_rec *rec, aug_err *e);

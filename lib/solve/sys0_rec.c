@@ -1,6 +1,7 @@
 /* The original system of a stream for the update solvers: K0 (KMAT which 0),
    f0 (FVEC kind 0) and its factor (FACT), read through their codecs and
    checked against each other and the DOF numbering before a solver is made. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -113,13 +114,34 @@ int aug_sys0_solver(aug_sys0 *s, int64_t nfree, const aug_solver_opts *o, const 
     if ((int64_t)s->L0->n != (int64_t)K->nrow)
         return aug_err_set(e, AUG_EDATA, s->l_index, "FACT", "order %lld, KMAT (record %ld) %lld",
                            (long long)s->L0->n, ki, (long long)K->nrow);
-    double rr = factor_relres(s, K);
-    if (!(rr <= AUG_SYS0_TOL))
+    /* a factor of another K leaves a relres of its order (2K: 0.5); a factor
+       of K about cond(K) eps, which passes AUG_SYS0_TOL on stiff jumps (the
+       cube, E 1e10 below 1: cond 2e12, relres 4.3e-4): above it, cond(K)
+       is estimated (cond.c, through this factor) and the relres may reach
+       AUG_SYS0_COND cond eps, at most 1e-2 (factor(1) refuses K past
+       cond 4.5e13 anyway) */
+    double rr = factor_relres(s, K), cond = NAN;
+    if (!(rr <= AUG_SYS0_TOL) && isfinite(rr)) {
+        aug_cond c;
+        aug_err ce;
+        if (!aug_cond_estimate(K, s->L0, 1e-2, &c, s->cm, &ce)) cond = c.cond;
+    }
+    double lim = fmax(AUG_SYS0_TOL, fmin(AUG_SYS0_COND * cond * DBL_EPSILON, 1e-2));
+    if (!(rr <= lim)) {
+        if (isnan(cond))
+            return aug_err_set(e, AUG_EDATA, s->l_index, "FACT",
+                               "does not factor the KMAT of record %ld (relres %.3g of its solve of "
+                               "FVEC record %ld)", ki, rr, s->f_index);
         return aug_err_set(e, AUG_EDATA, s->l_index, "FACT",
                            "does not factor the KMAT of record %ld (relres %.3g of its solve of "
-                           "FVEC record %ld)", ki, rr, s->f_index);
+                           "FVEC record %ld; cond %.3g allows %.3g)", ki, rr, s->f_index, cond, lim);
+    }
     aug_solver_opts so = *o;
     so.dynamic = s->dynamic;
+    /* a direct step is failed above max(--fail-tol, AUG_SYS0_COND x the base
+       solve's relres), at most 1e-2: the base's rounding says what the
+       scene's conditioning allows (the cube, E 1e8 below 1: base 2.9e-6) */
+    so.fail_tol = fmax(o->fail_tol, fmin(AUG_SYS0_COND * rr, 1e-2));
     s->solver = aug_solver_new(K, s->f0, s->L0, &so, s->cm, e);
     s->L0 = NULL; /* the solver owns it, also on failure */
     return s->solver ? 0 : e->code;
