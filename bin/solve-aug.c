@@ -49,7 +49,7 @@ static const char *help =
     "  --amps-field F       amps's K^-1 H w: solve (a forward solve over the closure\n"
     "                       of H, default) or memo (the memo's V columns, paper 001)\n"
     "  --fail-tol F         a direct method whose relres stays above F reports the\n"
-    "                       step singular (default 1e-6)\n"
+    "                       step singular (default 1e-6, or 100 x the base's relres)\n"
     "  --tol T              relres ||K_t a - f_t||/||f_t|| gmres and pcg stop at (default 1e-8)\n"
     "  --maxit N            iteration cap of gmres and pcg (default 10000)\n"
     "  --gmres-prec P       none, D or spai (default D)\n"
@@ -127,7 +127,8 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_INT("--refine-iter", &so->refine_iter, 0, 100, "0 to 100")},
         {AUG_OPT_REAL("--refine-tol", &so->refine_tol, 0, 1, "a number in [0, 1)"),
          .flags = AUG_OPT_HI_OPEN, .given = &nrtol},
-        {AUG_OPT_REAL("--fail-tol", &so->fail_tol, 0, 1, "a number in (0, 1)"), .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
+        {AUG_OPT_REAL("--fail-tol", &so->fail_tol, 0, 1, "a number in (0, 1)"), .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN,
+         .given = &so->fail_tol_fixed},
         {AUG_OPT_REAL("--amps-target", &so->amps_target, 0, 1, "a number in [0, 1)"),
          .flags = AUG_OPT_HI_OPEN},
         {AUG_OPT_INT("--amps-correct", &so->amps_correct, 0, 10, "0 to 10")},

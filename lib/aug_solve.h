@@ -716,6 +716,7 @@ typedef struct aug_solver_opts {
     double refine_tol;   /* refine_iter = 0: refine while relres > refine_tol ... */
     int refine_max;      /* ... at most this many steps, while each halves relres */
     double fail_tol;     /* a direct method whose relres stays above this failed */
+    int fail_tol_fixed;  /* fail_tol as given (--fail-tol), not raised to the base's relres (sys0_rec.c) */
     double amps_target;  /* amps refines (once) above this relres even below refine_tol */
     int check;           /* err_direct against a fresh CHOLMOD solve */
     int background;      /* background re-factorization for amps/gmres */
@@ -766,8 +767,8 @@ typedef struct aug_sys0 {
 /* largest relres of K0 L0^-1 f0 that lets a FACT pass as K0's factor */
 #define AUG_SYS0_TOL 1e-4
 /* ... or AUG_SYS0_COND cond(K0) eps (estimated when the relres passes
-   AUG_SYS0_TOL), at most 1e-2; a step's direct solve fails above
-   max(fail_tol, AUG_SYS0_COND x that relres), at most 1e-2 */
+   AUG_SYS0_TOL), at most 1e-2; unless fail_tol_fixed, a step's direct solve
+   fails above max(fail_tol, AUG_SYS0_COND x that relres), at most 1e-2 */
 #define AUG_SYS0_COND 100.0
 int aug_sys0_init(aug_sys0 *s, aug_err *e);
 void aug_sys0_free(aug_sys0 *s);

@@ -138,10 +138,11 @@ int aug_sys0_solver(aug_sys0 *s, int64_t nfree, const aug_solver_opts *o, const 
     }
     aug_solver_opts so = *o;
     so.dynamic = s->dynamic;
-    /* a direct step is failed above max(--fail-tol, AUG_SYS0_COND x the base
-       solve's relres), at most 1e-2: the base's rounding says what the
-       scene's conditioning allows (the cube, E 1e8 below 1: base 2.9e-6) */
-    so.fail_tol = fmax(o->fail_tol, fmin(AUG_SYS0_COND * rr, 1e-2));
+    /* a direct step is failed above max(fail_tol, AUG_SYS0_COND x the base
+       solve's relres), at most 1e-2, unless --fail-tol was given: the base's
+       rounding says what the scene's conditioning allows (the cube, E 1e8
+       below 1: base 2.9e-6) */
+    if (!o->fail_tol_fixed) so.fail_tol = fmax(o->fail_tol, fmin(AUG_SYS0_COND * rr, 1e-2));
     s->solver = aug_solver_new(K, s->f0, s->L0, &so, s->cm, e);
     s->L0 = NULL; /* the solver owns it, also on failure */
     return s->solver ? 0 : e->code;
