@@ -133,6 +133,8 @@ typedef struct aug_msim {
     int dim;
     int64_t nn;                 /* nodes of the mesh */
     int32_t *edom;              /* per element: domain */
+    int64_t ne;                 /* elements of the mesh edom was made for */
+    int32_t *conn;              /* their connectivity then (ne*nv): the parents of a step's added elements */
     int32_t *owner;             /* per node: lowest domain holding it (-1: none) */
     int32_t *ownloc;            /* per node: its local index in the owner */
     double *u, *v;              /* global nodal state (the owner's copy) */

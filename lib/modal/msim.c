@@ -179,12 +179,54 @@ static int add_snapshot(aug_msim *s, aug_mdomain *d, const double *x, aug_err *e
     return aug_galerkin_sync(&d->gM, &d->svd, d->M, s->cm, e);
 }
 
-static int partition(aug_msim *s, const aug_mesh *m, aug_err *e)
+/* resolve a new node to the node of the mesh before the step it descends from */
+static int64_t root(int64_t g, int64_t nn_old, const int32_t *parent)
 {
-    free(s->edom);
-    s->edom = malloc((size_t)(m->ne + 1) * sizeof *s->edom);
-    if (!s->edom) return NOMEM(e);
-    for (int64_t el = 0; el < m->ne; el++) s->edom[el] = aug_mpart_domain(&s->part, m, el);
+    while (g >= nn_old) g = parent[g - nn_old];
+    return g;
+}
+
+/* the old element (index < s->ne) whose corners before the step hold the
+   roots of every node of the added element el (a split's pieces descend from
+   the corners of the element they split, cut_split.c): among the step's
+   re-wired elements chg first, -1 when none */
+static int64_t parent_element(const aug_msim *s, const aug_mesh *m, int64_t el, int64_t nn_old, const int32_t *parent,
+                              const int32_t *chg, int64_t nchg)
+{
+    int nv = m->nv;
+    for (int64_t k = 0; k < nchg; k++) {
+        int64_t c = chg[k];
+        if (c < 0 || c >= s->ne) continue;
+        int all = 1;
+        for (int j = 0; j < nv && all; j++) {
+            int64_t r = root(m->conn[el * nv + j], nn_old, parent), hit = 0;
+            for (int i = 0; i < nv && !hit; i++) hit = s->conn[c * nv + i] == r;
+            all = (int)hit;
+        }
+        if (all) return c;
+    }
+    return -1;
+}
+
+/* element -> domain (paper 004 sec. 3 with --split slabs): at the start by the
+   element's centroid (partition.c); at a cut step an old element keeps its
+   domain (a re-wired one too: its centroid may cross into the next slab, and
+   its old domain would keep it with its old nodes), an added one takes its
+   parent element's, else its centroid's (modal(1): "elements a cut makes fall
+   in their parent's slab") */
+static int partition(aug_msim *s, const aug_mesh *m, int64_t nn_old, const int32_t *parent, const int32_t *chg,
+                     int64_t nchg, aug_err *e)
+{
+    int32_t *ed = malloc((size_t)(m->ne + 1) * sizeof *ed);
+    int32_t *cn = malloc((size_t)(m->ne * m->nv + 1) * sizeof *cn);
+    if (!ed || !cn) return free(ed), free(cn), NOMEM(e);
+    for (int64_t el = 0; el < m->ne; el++) {
+        int64_t pe = el < s->ne ? el : parent_element(s, m, el, nn_old, parent, chg, nchg);
+        ed[el] = pe >= 0 ? s->edom[pe] : aug_mpart_domain(&s->part, m, el);
+    }
+    memcpy(cn, m->conn, (size_t)(m->ne * m->nv) * sizeof *cn);
+    free(s->edom), free(s->conn);
+    s->edom = ed, s->conn = cn, s->ne = m->ne;
     return owners(s, m, e);
 }
 
@@ -226,7 +268,7 @@ int aug_msim_init(aug_msim *s, const aug_msim_opts *o, const aug_dynp *p, const 
             return aug_err_set(e, AUG_EUSAGE, -1, "", "--reduce: no domain %d (domains 0..%d)", (int)o->reduce[i],
                                s->nd - 1);
     s->d = calloc((size_t)s->nd, sizeof *s->d);
-    if (!s->d || partition(s, m, e)) return e->code ? e->code : NOMEM(e);
+    if (!s->d || partition(s, m, 0, NULL, NULL, 0, e)) return e->code ? e->code : NOMEM(e);
     if (grow_global(s, m->nn, m->dim)) return NOMEM(e);
     s->nn = m->nn;
     for (int64_t k = 0; k < m->nn * m->dim; k++) s->u[k] = u0 ? u0[k] : 0, s->v[k] = v0 ? v0[k] : 0;
@@ -263,7 +305,7 @@ void aug_msim_free(aug_msim *s)
     }
     if (s->C) cholmod_free_sparse(&s->C, s->cm);
     free(s->blk), free(s->off), free(s->g), free(s->lam), free(s->x), free(s->rhs);
-    free(s->edom), free(s->owner), free(s->ownloc), free(s->u), free(s->v), free(s->uw), free(s->rsum), free(s->dsum);
+    free(s->edom), free(s->conn), free(s->owner), free(s->ownloc), free(s->u), free(s->v), free(s->uw), free(s->rsum), free(s->dsum);
     free(s->ca), free(s->cb), free(s->cdof), free(s->cia), free(s->cib);
     aug_mpart_free(&s->part);
     memset(s, 0, sizeof *s);
@@ -682,12 +724,6 @@ out:
 
 /* ---- cut steps ---- */
 
-/* resolve a new node to the node of the mesh before the step it descends from */
-static int64_t root(int64_t g, int64_t nn_old, const int32_t *parent)
-{
-    while (g >= nn_old) g = parent[g - nn_old];
-    return g;
-}
 
 /* the constraints (local DOF, value) and owner loads of domain d on m equal
    those of its sub-mesh? */
@@ -776,7 +812,7 @@ int aug_msim_step(aug_msim *s, const aug_mesh *m, int64_t nn_old, const int32_t 
         for (int c = 0; c < m->dim; c++) s->u[g * m->dim + c] = s->u[r * m->dim + c], s->v[g * m->dim + c] = s->v[r * m->dim + c];
     }
     s->nn = m->nn;
-    if (partition(s, m, e)) return e->code;
+    if (partition(s, m, nn_old, parent, chg, nchg, e)) return e->code;
     unsigned char *hit = calloc((size_t)s->nd, 1);
     int32_t *loc = malloc((size_t)(m->nn + 1) * sizeof *loc);
     if (!hit || !loc) return free(hit), free(loc), NOMEM(e);
