@@ -56,8 +56,17 @@ int aug_msim_lma(aug_msim *s, int di, int k, aug_moderec *mr, aug_err *e)
     if (d->nf <= k + 1) return 0; /* too small to have k modes: none */
     d->lmaX = malloc((size_t)d->nf * k * sizeof *d->lmaX);
     if (!d->lmaX) return NOMEM(e);
+    /* a domain its own constraints do not hold (a floating sub-domain,
+       coupled only at its interfaces) has rigid motions with lambda = 0:
+       deflated as factor --modes does (aug_free_rigid_modes), so that they
+       come out exactly 0 and as rigid motions, not as Ritz values of
+       rounding (-7e-12 on the free cube at --lma 3) */
+    double *R = NULL;
+    int64_t nr = aug_free_rigid_modes(&d->sub, d->map, d->nf, k, &R);
+    if (nr < 0) return NOMEM(e);
     aug_modes md;
-    int rc = aug_modes_shifted(d->K, d->M, k, 1e-10, NULL, 0, &md, d->lmaX, s->cm, e);
+    int rc = aug_modes_shifted(d->K, d->M, k, 1e-10, R, (int)nr, &md, d->lmaX, s->cm, e);
+    free(R);
     if (rc) return rc;
     if (!md.converged)
         return aug_err_set(e, AUG_ENOCONV, -1, "MODE", "domain %d: ARPACK did not converge on its %d lowest modes", di, k);
