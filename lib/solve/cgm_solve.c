@@ -1,6 +1,7 @@
 /* The thesis's conditioning transforms as solvers (thesis 003 sec. 3.5):
    build T from K_t, CG on T x = f_t, and what that x is worth against the
    true cut system (cond of T, error against a fresh CHOLMOD solve). */
+#include <float.h>
 #include <cblas.h>
 #include <lapacke.h>
 #include <math.h>
@@ -127,8 +128,14 @@ static int cond_of(const double *T, const double *L, const double *F, int n, dou
                 }
                 r->lambda_max = w[imax], r->lambda_min = w[imin];
                 r->cond = fabs(w[imax]) / fabs(w[imin]);
+                /* singular to working precision (LAPACK's rank rule, |lambda|
+                   <= n eps lambda_max: COV of rank n - 1 gave lambda_min
+                   -2.9e-16, cond 6e16) is singular, as an exactly zero
+                   pivot is on the Lanczos path below: cond inf */
+                int sing = !(fabs(w[imin]) > n * DBL_EPSILON * fabs(w[imax]));
+                if (sing) r->lambda_min = 0, r->cond = INFINITY;
                 r->cond_converged = 1;
-                if (!L) r->spd = w[0] > 0;
+                if (!L) r->spd = w[0] > 0 && !sing;
                 rc = 0;
             }
         }
