@@ -49,6 +49,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     if (o->dump + o->csv + (o->vtk != NULL) + (o->mtx != NULL) > 1)
         aug_tool_usage(t, "--dump, --csv, --vtk and --mtx exclude each other");
     if (o->no_times && !o->dump) aug_tool_usage(t, "--no-times goes with --dump");
+    if (o->vtk && !strcmp(o->vtk, "-")) aug_tool_usage(t, "--vtk -: a file name (FILE.vtu or DIR/NAME.pvd), not standard output");
     if (nstep && !o->mtx && (!o->vtk || aug_path_is_pvd(o->vtk)))
         aug_tool_usage(t, "--step goes with --vtk FILE.vtu or --mtx (a .pvd has every step)");
     aug_tool_usage_done(t, synopsis);
@@ -109,6 +110,7 @@ static void run_collect(aug_tool *t, const options *o)
     aug_summary *s = aug_summary_new(t->r, o->step >= 0 ? (int32_t)o->step : INT32_MAX, &e);
     aug_pvd *pvd = NULL;
     aug_mtx *mx = NULL;
+    aug_out_protect(fileno(t->in)); /* no output replaces the input */
     if (!s || (o->vtk && aug_path_is_pvd(o->vtk) && !(pvd = aug_pvd_new(o->vtk, &e))) ||
         (o->mtx && !(mx = aug_mtx_new(&e))))
         fail(t, pvd, mx, &e);

@@ -151,6 +151,14 @@ int aug_vtk_write_modes(FILE *out, const aug_mesh *m, const struct aug_moderec *
    errors name the file (AUG_EIO, record -1); a file that failed is removed. */
 int aug_vtk_step_file(const char *path, const aug_summary *s, int32_t step, aug_err *e);
 
+/* Output files (lib/stats/outfile.c): aug_out_protect(fd) registers the
+   input stream (a regular file; else nothing); aug_out_check refuses a path
+   that is that file (AUG_EIO naming the path), aug_out_create checks and
+   opens the path for writing (NULL and e set on failure). */
+void aug_out_protect(int fd);
+int aug_out_check(const char *path, aug_err *e);
+FILE *aug_out_create(const char *path, aug_err *e);
+
 /* ParaView time series of a cut sequence: DIR/NAME.pvd lists one
    DIR/NAME_SSSS.vtu (aug_vtk_write; SSSS the step number, at least four
    digits) per step: step 0 and every step that has a per-step record, each

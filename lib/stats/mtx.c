@@ -79,9 +79,8 @@ static int write_file(aug_mtx *x, int slot, const char *prefix, const char *suff
     char *name = aug_malloc(len);
     if (!name) return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
     snprintf(name, len, "%s%s", prefix, suffix);
-    FILE *o = fopen(name, "w");
+    FILE *o = aug_out_create(name, e);
     if (!o) {
-        aug_err_set(e, AUG_EIO, -1, "", "%s: %s", name, strerror(errno));
         free(name);
         return e->code;
     }

@@ -114,6 +114,10 @@ static char *next_file(aug_pvd *p, int32_t step, aug_err *e)
         return NULL;
     }
     snprintf(name, len, "%.*s_%04d.vtu", (int)p->stem, p->path, (int)step);
+    if (aug_out_check(name, e)) { /* not listed: a failed run removes what it lists */
+        free(name);
+        return NULL;
+    }
     p->step[p->n] = step;
     p->time[p->n] = step;
     p->file[p->n++] = name;
@@ -161,8 +165,8 @@ static int write_frame(aug_pvd *p, const aug_summary *s, const aug_rec *rec, aug
     if (!rc && !name) rc = e->code;
     if (!rc) {
         p->time[p->n - 1] = f.time;
-        FILE *o = fopen(name, "w");
-        if (!o) rc = aug_err_set(e, AUG_EIO, -1, "", "%s: %s", name, strerror(errno));
+        FILE *o = aug_out_create(name, e);
+        if (!o) rc = e->code;
         else {
             rc = aug_vtk_write_uv(o, m, u, v, mask, e);
             if (fclose(o) != 0 && !rc) rc = aug_err_set(e, AUG_EIO, -1, "", "%s: write failed", name);
@@ -200,10 +204,15 @@ static int write_mode(aug_pvd *p, const aug_summary *s, const aug_rec *rec, aug_
     if (!name) rc = aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
     else {
         snprintf(name, len, "%.*s_modes_%04ld.vtu", (int)p->stem, p->path, (long)p->nm);
+        if (aug_out_check(name, e)) {
+            free(name);
+            aug_moderec_free(&r);
+            return e->code;
+        }
         p->mfile[p->nm] = name, p->mtime[p->nm] = r.frame, p->mdomain[p->nm] = r.domain;
         p->nm++;
-        FILE *o = fopen(name, "w");
-        if (!o) rc = aug_err_set(e, AUG_EIO, -1, "", "%s: %s", name, strerror(errno));
+        FILE *o = aug_out_create(name, e);
+        if (!o) rc = e->code;
         else {
             rc = aug_vtk_write_modes(o, m, &r, e);
             if (rc && e->record < 0) e->record = rec->index;
@@ -249,8 +258,8 @@ static void put_attr(FILE *o, const char *name)
 static int write_collection(const char *path, size_t n, char **file, const double *time,
                             const int32_t *part, size_t base, int *wrote, aug_err *e)
 {
-    FILE *o = fopen(path, "w");
-    if (!o) return aug_err_set(e, AUG_EIO, -1, "", "%s: %s", path, strerror(errno));
+    FILE *o = aug_out_create(path, e);
+    if (!o) return e->code;
     *wrote = 1;
     fprintf(o, "<?xml version=\"1.0\"?>\n");
     fprintf(o, "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n");

@@ -210,8 +210,8 @@ int aug_vtk_step_file(const char *path, const aug_summary *s, int32_t step, aug_
         mask = NULL;
     }
     int rc;
-    FILE *f = fopen(path, "w");
-    if (!f) rc = aug_err_set(e, AUG_EIO, -1, "", "%s: %s", path, strerror(errno));
+    FILE *f = aug_out_create(path, e);
+    if (!f) rc = e->code;
     else {
         rc = aug_vtk_write(f, m, u, mask, e);
         if (fclose(f) != 0 && !rc) rc = aug_err_set(e, AUG_EIO, -1, "", "write failed");
