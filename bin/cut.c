@@ -149,9 +149,9 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     o->seed = 1;
     int nsteps = 0;
     const aug_opt opt[] = {
-        {AUG_OPT_CALL("--plane", plane, o, "nx,ny,nz,d or random")},
+        {AUG_OPT_CALL("--plane", plane, o, "nx,ny,nz,d or random"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_REALS("--advance", o->adv, 3, "dx,dy,dz"), .given = &o->have_adv},
-        {AUG_OPT_CALL("--polygon", polygon, o, "3 to 64 points x,y,z,x,y,z,...")},
+        {AUG_OPT_CALL("--polygon", polygon, o, "3 to 64 points x,y,z,x,y,z,..."), .flags = AUG_OPT_ONCE},
         {AUG_OPT_INT("--steps", &o->steps, 1, 1000000, "a count from 1 to 1000000"), .given = &nsteps},
         {AUG_OPT_INT("--per-step", &o->per_step, 1, LONG_MAX, "a count >= 1")},
         {AUG_OPT_INT("--seed", &o->seed, 0, LONG_MAX, "an integer >= 0")},

@@ -84,7 +84,6 @@ static const aug_word bases[] = {{"svd", AUG_BASIS_SVD}, {"identity", AUG_BASIS_
 static int reduce_list(aug_tool *t, const char *opt, const char *val, void *dst)
 {
     options *o = dst;
-    (void)t, (void)opt;
     o->mo.reduce_all = o->mo.reduce_none = 0, o->mo.nreduce = 0;
     if (!strcmp(val, "all")) return o->mo.reduce_all = 1, 0;
     if (!strcmp(val, "none")) return o->mo.reduce_none = 1, 0;
@@ -93,7 +92,10 @@ static int reduce_list(aug_tool *t, const char *opt, const char *val, void *dst)
         char *end;
         long v = strtol(s, &end, 10);
         if (end == s || v < 0 || v > 1000000 || o->mo.nreduce == 256 || (*end && *end != ',')) return -1;
+        for (int i = 0; i < o->mo.nreduce; i++)
+            if (o->red[i] == v) return aug_tool_usage(t, "%s %s: domain %ld given twice", opt, val, v), -1;
         o->red[o->mo.nreduce++] = (int32_t)v;
+        if (*end && !end[1]) return -1; /* "0,": an empty last number */
         s = *end ? end + 1 : end;
     }
     o->mo.reduce = o->red;
@@ -109,7 +111,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     const aug_opt opt[] = {
         {AUG_OPT_STRING("--domains", &m->domains, "material, one or groups like a,b/c"), .flags = AUG_OPT_NONEMPTY},
         {AUG_OPT_INT("--split", &m->split, 1, 1000, "1 to 1000")},
-        {AUG_OPT_CALL("--reduce", reduce_list, o, "all, none or a comma list of domain numbers")},
+        {AUG_OPT_CALL("--reduce", reduce_list, o, "all, none or a comma list of domain numbers"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_INT("--rank", &m->rank, 1, 10000, "1 to 10000")},
         {AUG_OPT_REAL("--svd-tol", &m->svd_tol, 0, 1, "a number in [0, 1)"), .flags = AUG_OPT_HI_OPEN},
         {AUG_OPT_REAL("--tau-svd", &m->tau_svd, 0, 1, "a number in (0, 1)"),

@@ -101,8 +101,21 @@ static int methods(aug_tool *t, const char *opt, const char *val, void *dst)
 {
     aug_solver_opts *so = dst;
     int k = aug_parse_methods(val, so->order);
-    (void)t, (void)opt;
-    if (k <= 0) return -1;
+    if (k <= 0) { /* say which name: unknown, empty or repeated */
+        const char *p = val;
+        for (int i = 0;; i++) {
+            size_t len = strcspn(p, ",");
+            int m = aug_method_index(p, len);
+            if (!len || m < 0)
+                return aug_tool_usage(t, "%s %s: %s", opt, val, len ? "an unknown method" : "an empty method name"), -1;
+            for (const char *q = val; q < p; q += strcspn(q, ",") + 1)
+                if (aug_method_index(q, strcspn(q, ",")) == m)
+                    return aug_tool_usage(t, "%s %s: %.*s given twice", opt, val, (int)len, p), -1;
+            if (!p[len]) break;
+            p += len + 1;
+        }
+        return -1;
+    }
     so->nmeth = k;
     return 0;
 }
@@ -116,7 +129,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     int nlag = 0, nrtol = 0, max_n = (int)so->cgm.max_n, horizon = -1;
     const aug_opt opt[] = {
         {AUG_OPT_CALL("--method", methods, so,
-                      "a comma list of auto,amps,gmres,refactor,rowupdate,pcg,cgm-cov,cgm-es,cgm-log,cgm-as")},
+                      "a comma list of auto,amps,gmres,refactor,rowupdate,pcg,cgm-cov,cgm-es,cgm-log,cgm-as"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_FLAG("--check", &so->check)},
         {AUG_OPT_FLAG("--time-full", &o->time_full)},
         {AUG_OPT_FLAG("--no-reactions", &o->no_reactions)},
@@ -146,7 +159,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_INT("--frames", &o->frames, 1, 100000000, "a count >= 1"), .given = &o->nframes},
         {AUG_OPT_INT("--settle", &o->settle, 0, 100000000, "a count >= 0")},
         {AUG_OPT_CHOICE("--pcg-prec", &so->pcg_prec, pcg_precs, "none, jacobi, ic or ic-amd")},
-        {AUG_OPT_REAL("--cgm-eps", &so->cgm.eps, 0, 1e300, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
+        {AUG_OPT_REAL("--cgm-eps", &so->cgm.eps, 0, 1e300, "a number in (0, 1e300]"), .flags = AUG_OPT_LO_OPEN},
         {AUG_OPT_REAL("--cgm-p", &so->cgm.p, 0, 1e300, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
         {AUG_OPT_INT("--cgm-max-n", &max_n, 1, 46340, "1 to 46340")},
         {AUG_OPT_INT("--prefault", &o->prefault, 0, 1900, "0 to 1900 (MiB)")},

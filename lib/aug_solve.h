@@ -703,7 +703,10 @@ double aug_s2_flops(int64_t n0, int64_t n1, int64_t k0);
 enum { AUG_M_AMPS, AUG_M_GMRES, AUG_M_REFACTOR, AUG_M_ROWUPDATE, AUG_M_PCG, AUG_M_AUTO,
        AUG_M_CGM_COV, AUG_M_CGM_ES, AUG_M_CGM_LOG, AUG_M_CGM_AS, AUG_M_COUNT };
 extern const char *const aug_method_names[AUG_M_COUNT];
-/* "amps,gmres,..." into order[] (returns count, -1 on an unknown name). */
+/* the method named by the len bytes of name, -1 when none */
+int aug_method_index(const char *name, size_t len);
+/* "amps,gmres,..." into order[] (returns count, -1 on an unknown, empty or
+   repeated name). */
 int aug_parse_methods(const char *s, int order[AUG_M_COUNT]);
 
 typedef struct aug_solver_opts {

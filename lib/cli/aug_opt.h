@@ -17,12 +17,13 @@ typedef enum aug_argkind {
 } aug_argkind;
 
 enum {
-    AUG_OPT_ONCE = 1,       /* given twice is a usage error */
+    AUG_OPT_ONCE = 1,       /* given twice is a usage error (the default for every kind but NONE and CALL) */
     AUG_OPT_LO_OPEN = 2,    /* REAL: lo itself refused */
     AUG_OPT_HI_OPEN = 4,    /* REAL: hi itself refused */
     AUG_OPT_ZERO = 8,       /* REAL: 0 accepted too, outside the bounds (0: off) */
     AUG_OPT_NONEMPTY = 16,  /* STRING: the empty string refused */
-    AUG_OPT_CLEAR = 32      /* NONE: the flag stores 0 (a --no-X switch) */
+    AUG_OPT_CLEAR = 32,     /* NONE: the flag stores 0 (a --no-X switch) */
+    AUG_OPT_MULTI = 64      /* a value option that may be given again, the last one taken */
 };
 
 typedef struct aug_word {
@@ -73,7 +74,10 @@ enum { AUG_OPT_MAXREALS = 16 };
    on stdout and exit 0. Operands are the input file: into *file, one at most
    (file NULL: none taken). Every error is reported through aug_tool_usage and
    counted in t->usage_errors: an unknown option, a missing or refused value,
-   "=value" on a flag, a once-only option given twice, a second input file.
+   "=value" on a flag, a once-only option given twice (every option with a
+   value, unless CALL or AUG_OPT_MULTI: `--steps 2 --steps 3` would otherwise
+   take the last one without a word; a flag twice is harmless), a second input
+   file.
    A refused value leaves its destination unchanged. The caller adds its own
    checks and then calls aug_tool_usage_done. */
 void aug_opt_parse(aug_tool *t, int argc, char **argv, const aug_opt *opt, int nopt,

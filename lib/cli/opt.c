@@ -1,5 +1,7 @@
 /* Table-driven command-line parsing of the tools (aug_opt.h). */
+#include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -81,11 +83,27 @@ static int take(aug_tool *t, const aug_opt *r, const char *val)
     return -1;
 }
 
+/* why a number the bounds did not refuse was refused, or NULL: inf, nan
+   and values past the doubles ("--pull 1e-400" read "at most 1e12 in
+   magnitude", "--max-aspect inf" "a number >= 1.2") */
+static const char *not_a_double(const char *val)
+{
+    char *end;
+    errno = 0;
+    double x = strtod(val, &end);
+    if (end == val || *end) return NULL;
+    if (!isfinite(x) && errno != ERANGE) return "not a finite number";
+    if (errno == ERANGE) return fabs(x) < 1 ? "below the smallest double (underflow)" : "beyond the largest double";
+    return NULL;
+}
+
 /* the usage error of a refused value (none when a CALL reported its own) */
 static void refused(aug_tool *t, const aug_opt *r, const char *val, int n0)
 {
     if (t->usage_errors > n0) return;
-    if (!r->bad) aug_tool_usage(t, "%s needs %s", r->name, r->need);
+    const char *why = r->kind == AUG_ARG_REAL ? not_a_double(val) : NULL;
+    if (why) aug_tool_usage(t, "%s %s: %s (%s needs %s)", r->name, val, why, r->name, r->need);
+    else if (!r->bad) aug_tool_usage(t, "%s needs %s", r->name, r->need);
     else if (!val[0]) aug_tool_usage(t, "%s: %s", r->name, r->bad);
     else aug_tool_usage(t, "%s %s: %s", r->name, val, r->bad);
 }
@@ -137,7 +155,9 @@ void aug_opt_parse(aug_tool *t, int argc, char **argv, const aug_opt *opt, int n
             }
             val = argv[++i];
         }
-        if ((r->flags & AUG_OPT_ONCE) && seen[r - opt]++) aug_tool_usage(t, "%s given twice", r->name);
+        int once = (r->flags & AUG_OPT_ONCE) ||
+                   (r->kind != AUG_ARG_NONE && r->kind != AUG_ARG_CALL && !(r->flags & AUG_OPT_MULTI));
+        if (once && seen[r - opt]++) aug_tool_usage(t, "%s given twice", r->name);
         if (r->given) (*r->given)++;
         int n0 = t->usage_errors;
         if (take(t, r, val)) refused(t, r, val, n0);

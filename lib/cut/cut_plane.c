@@ -57,7 +57,9 @@ int aug_plane_plan(aug_plane_cut *pc, const aug_mesh *m, const aug_adj *adj, con
     int dim = m->dim, nv = m->nv, nfc = aug_etype_nfacet(m->etype), fv = aug_etype_facet_nv(m->etype);
     double len = sqrt(dot(n, n, dim));
     if (!(len > 0))
-        return aug_err_set(e, AUG_EUSAGE, -1, "", "the plane normal is zero");
+        return aug_err_set(e, AUG_EUSAGE, -1, "", dim == 2 ? "the plane normal has no x or y component "
+                                                              "(a 2-D mesh: z is ignored)"
+                                                            : "the plane normal is zero");
     pc->dim = dim;
     for (int k = 0; k < dim; k++) pc->n[k] = n[k] / len;
     pc->d = d / len;

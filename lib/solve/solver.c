@@ -10,6 +10,13 @@
 const char *const aug_method_names[AUG_M_COUNT] = {"amps", "gmres", "refactor", "rowupdate", "pcg",
                                                    "auto", "cgm-cov", "cgm-es", "cgm-log", "cgm-as"};
 
+int aug_method_index(const char *name, size_t len)
+{
+    for (int m = 0; m < AUG_M_COUNT; m++)
+        if (strlen(aug_method_names[m]) == len && !strncmp(name, aug_method_names[m], len)) return m;
+    return -1;
+}
+
 int aug_parse_methods(const char *s, int order[AUG_M_COUNT])
 {
     int n = 0;
@@ -17,9 +24,7 @@ int aug_parse_methods(const char *s, int order[AUG_M_COUNT])
     while (*p) {
         const char *q = strchr(p, ',');
         size_t len = q ? (size_t)(q - p) : strlen(p);
-        int found = -1;
-        for (int m = 0; m < AUG_M_COUNT; m++)
-            if (strlen(aug_method_names[m]) == len && !strncmp(p, aug_method_names[m], len)) found = m;
+        int found = aug_method_index(p, len);
         if (found < 0) return -1;
         for (int i = 0; i < n; i++)
             if (order[i] == found) return -1;
@@ -27,6 +32,7 @@ int aug_parse_methods(const char *s, int order[AUG_M_COUNT])
         order[n++] = found;
         if (!q) break;
         p = q + 1;
+        if (!*p) return -1; /* "amps,": an empty last name */
     }
     return n;
 }
