@@ -540,7 +540,10 @@ void aug_ichol_free(aug_ichol *R);
 /* ---- background re-factorization (bgfactor.c, paper 000 sec. 3.6) ------ */
 
 typedef struct aug_bg aug_bg;
-aug_bg *aug_bg_new(int nthreads);
+/* stepwise: the thread catches AMPS up one queued update at a time (with a
+   --bg-lag schedule), not in batches of what queued meanwhile, whose
+   grouping, and so the rounding of the new base's memo, depends on timing */
+aug_bg *aug_bg_new(int nthreads, int stepwise);
 void aug_bg_free(aug_bg *bg);
 /* Start re-factoring K (taken) with load f (copied) in a thread; step is the
    step whose matrix K is. perm (may be NULL): a fill-reducing ordering of K to

@@ -2,7 +2,9 @@
    matrix of a past step while steps go on; its factor becomes the new base.
    Once the factor is ready the thread also catches AMPS up with the steps
    taken meanwhile (their composed update, the V columns and H'K^-1H for the
-   new base), batch after batch; when it has caught up it says it is done and
+   new base), batch after batch (one update at a time with a --bg-lag
+   schedule, so that the rounding does not depend on timing); when it has
+   caught up it says it is done and
    keeps up with new steps until the join, which lets it drain the queue: the
    swap step adds only its own update. */
 #include <pthread.h>
@@ -27,6 +29,7 @@ struct aug_bg {
     aug_base *base;
     aug_err err;
     int nthreads;
+    int stepwise;        /* catch up one update at a time (aug_bg_new) */
     double lnz_ref;      /* nnz(L) of the ordering last chosen (0: none yet; the
                             first job's given ordering sets it) */
     /* updates of the steps taken while the job runs (main thread appends) */
@@ -42,11 +45,11 @@ struct aug_bg {
     aug_amps am;
 };
 
-aug_bg *aug_bg_new(int nthreads)
+aug_bg *aug_bg_new(int nthreads, int stepwise)
 {
     aug_bg *bg = aug_calloc(1, sizeof *bg);
     if (!bg) return NULL;
-    bg->nthreads = nthreads;
+    bg->nthreads = nthreads, bg->stepwise = stepwise;
     atomic_init(&bg->done, 0);
     if (pthread_mutex_init(&bg->mu, NULL)) {
         free(bg);
@@ -108,7 +111,7 @@ static void catch_up(aug_bg *bg)
             atomic_store(&bg->done, 1); /* caught up: the main thread may join */
             pthread_cond_wait(&bg->cv, &bg->mu);
         }
-        int lo = bg->applied, hi = bg->nq;
+        int lo = bg->applied, hi = bg->stepwise && bg->nq > lo ? lo + 1 : bg->nq;
         aug_update *nbat = hi > lo ? aug_realloc(batch, (size_t)(hi - lo) * sizeof *batch) : batch;
         /* shallow copies: the arrays they point to live until the join */
         if (nbat) memcpy(nbat, bg->q + lo, (size_t)(hi - lo) * sizeof *nbat);

@@ -215,7 +215,7 @@ aug_solver *aug_solver_new(const cholmod_sparse *K0, const double *f0, cholmod_f
     }
     if ((o->background && (s->use[AUG_M_AMPS] || s->use[AUG_M_GMRES])) ||
         (s->use[AUG_M_AUTO] && s->au.bg_allowed)) {
-        s->bg = aug_bg_new(o->nthreads);
+        s->bg = aug_bg_new(o->nthreads, o->bg_lag > 0);
         if (!s->bg) {
             aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
             goto fail;
@@ -992,8 +992,11 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
     return 0;
 }
 
-/* The background job is joined once its factor is ready (or bg_lag steps
-   after its start) and its factor becomes the base (*swapped). A job that
+/* The background job is joined once its factor is ready, or with bg_lag
+   exactly bg_lag steps after its start, waiting for it if need be (a lag of
+   11 swapped at step 7, 8 or 9 from run to run when the job was done sooner:
+   --bg-lag promises deterministic output), and its factor becomes the base
+   (*swapped). A job that
    failed because the matrix of its step is not positive definite, on a step
    some method reported singular or not converged, leaves the base as it is:
    the step said so already. Any other failure (the matrix of a step every
@@ -1003,7 +1006,7 @@ static int join_background(aug_solver *s, int *swapped, aug_err *e)
 {
     *swapped = 0;
     if (!s->bg || !aug_bg_running(s->bg)) return 0;
-    if (!aug_bg_done(s->bg) && !(s->o.bg_lag > 0 && s->step - aug_bg_step(s->bg) >= s->o.bg_lag)) return 0;
+    if (s->o.bg_lag > 0 ? s->step - aug_bg_step(s->bg) < s->o.bg_lag : !aug_bg_done(s->bg)) return 0;
     aug_err be;
     aug_base *nb = aug_bg_join(s->bg, &be);
     if (!nb) {
