@@ -15,6 +15,10 @@ struct aug_pvd {
     int32_t cur;       /* the step whose records are being read */
     int32_t *step;     /* steps (frames) written, increasing */
     double *time;      /* their timesteps */
+    int32_t *part;     /* frames: their series (a stream with the frames of
+                          two tools, solve-aug's and modal's, has two) */
+    int32_t *next;     /* per series the frame number that continues it */
+    int nseries;
     char **file;       /* their .vtu paths */
     size_t n, cap;
     int wrote_pvd;
@@ -86,6 +90,8 @@ void aug_pvd_free(aug_pvd *p, int discard)
     free(p->file);
     free(p->step);
     free(p->time);
+    free(p->part);
+    free(p->next);
     free(p->path);
     free(p);
 }
@@ -99,7 +105,9 @@ static char *next_file(aug_pvd *p, int32_t step, aug_err *e)
         if (s) p->step = s;
         double *tm = s ? aug_realloc(p->time, cap * sizeof *tm) : NULL;
         if (tm) p->time = tm;
-        char **f = tm ? aug_realloc(p->file, cap * sizeof *f) : NULL;
+        int32_t *pt = tm ? aug_realloc(p->part, cap * sizeof *pt) : NULL;
+        if (pt) p->part = pt;
+        char **f = pt ? aug_realloc(p->file, cap * sizeof *f) : NULL;
         if (!f) {
             aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory");
             return NULL;
@@ -120,6 +128,7 @@ static char *next_file(aug_pvd *p, int32_t step, aug_err *e)
     }
     p->step[p->n] = step;
     p->time[p->n] = step;
+    p->part[p->n] = 0;
     p->file[p->n++] = name;
     return name;
 }
@@ -161,10 +170,23 @@ static int write_frame(aug_pvd *p, const aug_summary *s, const aug_rec *rec, aug
         for (int c = 0; c < m->dim; c++)
             u[nd0 * m->dim + c] = f.u[q * m->dim + c], v[nd0 * m->dim + c] = f.v[q * m->dim + c];
     }
-    const char *name = rc ? NULL : next_file(p, f.frame, e);
+    /* files counted, not named by frame number: a second series overwrote
+       the first one's files. A frame continues the series whose last frame
+       is frame - 1 (modal's frames interleave with solve-aug's it read),
+       else it starts one */
+    int series = 0;
+    while (series < p->nseries && p->next[series] != f.frame) series++;
+    if (!rc && series == p->nseries) {
+        int32_t *nx = aug_realloc(p->next, (size_t)(p->nseries + 1) * sizeof *nx);
+        if (!nx) rc = aug_err_set(e, AUG_ENOMEM, rec->index, rec->type, "out of memory");
+        else p->next = nx, p->nseries++;
+    }
+    const char *name = rc ? NULL : next_file(p, (int32_t)p->n, e);
     if (!rc && !name) rc = e->code;
     if (!rc) {
         p->time[p->n - 1] = f.time;
+        p->part[p->n - 1] = series;
+        p->next[series] = f.frame + 1;
         FILE *o = aug_out_create(name, e);
         if (!o) rc = e->code;
         else {
@@ -283,7 +305,7 @@ int aug_pvd_end(aug_pvd *p, const aug_summary *s, aug_err *e)
 {
     aug_err_clear(e);
     if (!p->frames && write_step(p, s, e)) return e->code;
-    if (write_collection(p->path, p->n, p->file, p->time, NULL, p->base, &p->wrote_pvd, e))
+    if (write_collection(p->path, p->n, p->file, p->time, p->part, p->base, &p->wrote_pvd, e))
         return e->code;
     if (!p->nm) return 0;
     char *mp = modes_pvd(p);
