@@ -534,6 +534,9 @@ void aug_soup_free(aug_soup *s);
 /* Append triangle (p, q, r) unless its area is <= 1e-12 * the squared
    longest edge (a blade that does not move): 1 appended, 0 skipped, -1 memory. */
 int aug_soup_add(aug_soup *s, const double *p, const double *q, const double *r);
+/* a surface file's corner: finite and at most AUG_COORD_MAX in magnitude (the
+   bound on mesh coordinates, formats 5.1) */
+int aug_soup_point_ok(const double *p);
 /* s += the surface the blade sweeps for tau in [t0, t1]: the quads between
    its positions at t0, t1, the key times between them and, on a curved
    interval, the times j / AUG_BLADE_SUB of the interval between them, each

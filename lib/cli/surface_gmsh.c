@@ -20,7 +20,11 @@ int aug_surface_gmsh(const char *path, aug_soup *s, aug_err *e)
     aug_tagged t;
     memset(&t, 0, sizeof t);
     int rc = aug_gmsh_read(path, &t, e);
-    if (rc) return rc;
+    if (rc) { /* its messages do not name the file (meshload adds it too) */
+        char msg[sizeof e->msg];
+        memcpy(msg, e->msg, sizeof msg);
+        return aug_err_set(e, rc, -1, "", "%s: %s", path, msg);
+    }
     if (t.etype != AUG_TRI3) {
         aug_gmsh_free(&t);
         return aug_err_set(e, AUG_EUSAGE, -1, "", "%s: a volume mesh, not a triangle surface", path);
@@ -43,6 +47,10 @@ int aug_surface_gmsh(const char *path, aug_soup *s, aug_err *e)
                 break;
             }
             p[k] = t.xyz + 3 * f->i;
+            if (!aug_soup_point_ok(p[k])) {
+                rc = aug_err_set(e, AUG_EDATA, -1, "", "%s: node %zu is beyond 1e30", path, key.tag);
+                break;
+            }
         }
         if (!rc && aug_soup_add(s, p[0], p[1], p[2]) < 0) rc = aug_err_set(e, AUG_ENOMEM, -1, "", "%s: out of memory", path);
     }

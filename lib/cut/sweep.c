@@ -133,6 +133,13 @@ static double dist2(const double *a, const double *b)
     return s;
 }
 
+int aug_soup_point_ok(const double *p)
+{
+    for (int k = 0; k < 3; k++)
+        if (!(fabs(p[k]) <= AUG_COORD_MAX)) return 0;
+    return 1;
+}
+
 int aug_soup_add(aug_soup *s, const double *p, const double *q, const double *r)
 {
     double u[3], v[3], n[3];

@@ -22,6 +22,10 @@ static int read_binary(const unsigned char *d, size_t n, aug_soup *s, const char
         const unsigned char *r = d + 84 + 50 * (size_t)i + 12;
         double v[9];
         for (int k = 0; k < 9; k++) v[k] = f32(r + 4 * k);
+        for (int k = 0; k < 3; k++) /* as the text reader refuses them (NaN, inf were skipped) */
+            if (!aug_soup_point_ok(v + 3 * k))
+                return aug_err_set(e, AUG_EUSAGE, -1, "", "%s: triangle %u: vertex %d is not finite or beyond "
+                                   "1e30", path, i + 1, k + 1);
         if (aug_soup_add(s, v, v + 3, v + 6) < 0) return aug_err_set(e, AUG_ENOMEM, -1, "", "%s: out of memory", path);
     }
     (void)n;
@@ -92,6 +96,9 @@ static int read_ascii(char *d, aug_soup *s, const char *path, aug_err *e)
             if (nv == 3 || three(&q, v + 3 * nv))
                 return aug_err_set(e, AUG_EUSAGE, -1, "", nv == 3 ? "%s:%d: a fourth vertex in a facet"
                                    : "%s:%d: want 'vertex x y z' (three finite numbers, nothing after)", path, line);
+            /* past 1e30 the area test overflowed: a triangle at 1e200 had "no area" */
+            if (!aug_soup_point_ok(v + 3 * nv))
+                return aug_err_set(e, AUG_EUSAGE, -1, "", "%s:%d: a vertex beyond 1e30", path, line);
             nv++, ok = 1;
         } else if (!strcmp(w, "endloop") && st == LOOP) {
             if (nv != 3) return aug_err_set(e, AUG_EUSAGE, -1, "", "%s:%d: a facet of %d vertices, want 3", path, line, nv);
