@@ -507,6 +507,7 @@ static int estimate(aug_msim *s, aug_err *e)
    forth on a few frames of budget each). */
 static int switching(aug_msim *s, aug_mdomain *d, aug_err *e)
 {
+    d->last_est = NAN; /* computed below only where the switch may happen (a reduced frame repeated the last) */
     if (d->mode == AUG_MD_RED) {
         if (d->err_switch + d->acc > s->o.acc_tol) {
             aug_mdomain_unreduce(d);
@@ -791,6 +792,7 @@ static int rewire(aug_msim *s, int di, const aug_mesh *m, int64_t nn_old, const 
     }
     d->version = old.version + 1;
     d->acc = old.acc;
+    d->last_err = old.last_err; /* its last snapshot's error until it takes another (it read 0) */
     d->spent = old.spent;
     d->switched = old.mode == AUG_MD_RED ? -1 : 0;
     d->rebuilt = 1;
