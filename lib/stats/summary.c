@@ -711,13 +711,14 @@ static int print_methods(FILE *o, const aug_summary *s)
         size_t j = 0;
         while (j < i && strncmp(t->row[j].method, t->row[i].method, 16) != 0) j++;
         if (j < i || !strncmp(t->row[i].method, "dynamics", 16)) continue; /* printed, or frames */
-        size_t nst = 0, nr = 0, nt = 0, fail = 0;
+        size_t nst = 0, nrow = 0, nr = 0, nt = 0, fail = 0; /* nrow: steps with either record (refine writes tIMe only) */
         double rmax = NAN; /* fmax skips it: NaN while no relres is a number */
         for (j = i; j < t->n; j++) {
             const aug_steprow *r = &t->row[j];
             if (strncmp(r->method, t->row[i].method, 16) != 0 || is_frame_row(r)) continue;
             int f;
             double v;
+            nrow += r->has_stat || r->has_time;
             if (r->has_stat) {
                 nst++;
                 v = aug_steprow_get(r, "relres", &f);
@@ -731,7 +732,7 @@ static int print_methods(FILE *o, const aug_summary *s)
         char c[4][32]; /* "-" where the records have no such value */
         double tmed = aug_median(tm, nt);
         g4(c[0], aug_median(rr, nr)), g4(c[1], rmax), g4(c[2], tmed), g4(c[3], 1000.0 / tmed);
-        fprintf(o, "  %-12s %6zu %13s %13s %9zu %14s %12s\n", t->row[i].method, nst, c[0], c[1],
+        fprintf(o, "  %-12s %6zu %13s %13s %9zu %14s %12s\n", t->row[i].method, nrow, c[0], c[1],
                 fail, c[2], c[3]);
     }
     free(rr);
