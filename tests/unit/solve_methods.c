@@ -335,7 +335,7 @@ static void background_reorders_on_fill(void)
     cm.nmethods = nm, cm.method[0].ordering = ord;
     cholmod_free_factor(&L, &cm);
     cholmod_free_sparse(&K, &cm);
-    aug_bg *bg = aug_bg_new(1);
+    aug_bg *bg = aug_bg_new(1, 0);
     const int32_t *perm[2] = {good, bad};
     int64_t fill[2] = {0, 0};
     double a[2] = {0, 0};
