@@ -647,8 +647,9 @@ enum {
     AUG_AUTO_FIRST_DEARER, /* refactor: warm-up AMPS steps cost more than it */
     AUG_AUTO_SINGULAR,     /* refactor: AMPS called the step singular */
     AUG_AUTO_SWAPPED,      /* AMPS on the background factor swapped in this step */
-    AUG_AUTO_HORIZON       /* AMPS: the growth has cost more than a re-factorization,
+    AUG_AUTO_HORIZON,      /* AMPS: the growth has cost more than a re-factorization,
                               but the steps left (--horizon) would not pay it back */
+    AUG_AUTO_DYNAMIC       /* AMPS: a dynamic stream, whose frames the cost model does not run on */
 };
 /* AMPS steps on a new base whose excess over the cheapest later step counts
    as its warm-up; after this many re-factorizations in a row chosen because

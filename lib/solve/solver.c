@@ -732,6 +732,13 @@ static void auto_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
 {
     const aug_auto *a = &s->au;
     if (!r->ran) return;
+    if (s->o.dynamic) { /* AMPS on K0's base per step (prep_method): no model ran, none of its keys */
+        put(st, "choice", AUG_AUTO_AMPS);
+        put(st, "reason", AUG_AUTO_DYNAMIC);
+        put(st, "s2_flops", s->amps.schur.flops);
+        amps_stats(s, r, st, tm);
+        return;
+    }
     put(st, "choice", a->choice);
     put(st, "reason", a->reason);
     put(st, "on_base", a->on_base);
