@@ -100,22 +100,9 @@ static const aug_word pcg_precs[] = {
 static int methods(aug_tool *t, const char *opt, const char *val, void *dst)
 {
     aug_solver_opts *so = dst;
-    int k = aug_parse_methods(val, so->order);
-    if (k <= 0) { /* say which name: unknown, empty or repeated */
-        const char *p = val;
-        for (int i = 0;; i++) {
-            size_t len = strcspn(p, ",");
-            int m = aug_method_index(p, len);
-            if (!len || m < 0)
-                return aug_tool_usage(t, "%s %s: %s", opt, val, len ? "an unknown method" : "an empty method name"), -1;
-            for (const char *q = val; q < p; q += strcspn(q, ",") + 1)
-                if (aug_method_index(q, strcspn(q, ",")) == m)
-                    return aug_tool_usage(t, "%s %s: %.*s given twice", opt, val, (int)len, p), -1;
-            if (!p[len]) break;
-            p += len + 1;
-        }
-        return -1;
-    }
+    char why[64];
+    int k = aug_methods_parse(val, so->order, why);
+    if (k <= 0) return aug_tool_usage(t, "%s %s: %s", opt, val, why), -1;
     so->nmeth = k;
     return 0;
 }

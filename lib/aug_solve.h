@@ -710,8 +710,9 @@ extern const char *const aug_method_names[AUG_M_COUNT];
 /* the method named by the len bytes of name, -1 when none */
 int aug_method_index(const char *name, size_t len);
 /* "amps,gmres,..." into order[] (returns count, -1 on an unknown, empty or
-   repeated name). */
+   repeated name; aug_methods_parse then says which in why). */
 int aug_parse_methods(const char *s, int order[AUG_M_COUNT]);
+int aug_methods_parse(const char *s, int order[AUG_M_COUNT], char why[64]);
 
 typedef struct aug_solver_opts {
     int nmeth;

@@ -17,24 +17,25 @@ int aug_method_index(const char *name, size_t len)
     return -1;
 }
 
-int aug_parse_methods(const char *s, int order[AUG_M_COUNT])
+int aug_methods_parse(const char *s, int order[AUG_M_COUNT], char why[64])
 {
     int n = 0;
-    const char *p = s;
-    while (*p) {
-        const char *q = strchr(p, ',');
-        size_t len = q ? (size_t)(q - p) : strlen(p);
+    for (const char *p = s;; p += strcspn(p, ",") + 1) {
+        size_t len = strcspn(p, ",");
         int found = aug_method_index(p, len);
-        if (found < 0) return -1;
+        if (!len) return snprintf(why, 64, "an empty method name"), -1; /* "amps," or ",amps" */
+        if (found < 0) return snprintf(why, 64, "an unknown method"), -1;
         for (int i = 0; i < n; i++)
-            if (order[i] == found) return -1;
-        if (n == AUG_M_COUNT) return -1;
-        order[n++] = found;
-        if (!q) break;
-        p = q + 1;
-        if (!*p) return -1; /* "amps,": an empty last name */
+            if (order[i] == found) return snprintf(why, 64, "%s given twice", aug_method_names[found]), -1;
+        order[n++] = found; /* at most AUG_M_COUNT: a repeat is refused above */
+        if (!p[len]) return n;
     }
-    return n;
+}
+
+int aug_parse_methods(const char *s, int order[AUG_M_COUNT])
+{
+    char why[64];
+    return aug_methods_parse(s, order, why);
 }
 
 const char *aug_solver_opts_conflict(const aug_solver_opts *o)
