@@ -84,23 +84,17 @@ int aug_factored_compute(aug_factored *r, const aug_mesh *m, const aug_factor_op
        1 loaded on top: cond 2e10, relres 2.9e-6): K is numerically singular
        when its condition number, estimated here (cond.c), passes
        1 / (100 eps) = 4.5e13 (fewer than two digits left in the field). */
-    int have_cond = 0;
-    if (!(r->relres <= 1e-6)) {
+    int suspect = !(r->relres <= 1e-6);
+    if (!o->no_cond || suspect) {
         t0 = aug_now();
         if (aug_cond_estimate(F, r->L, o->no_cond ? 1e-2 : o->cond_tol, &r->cond, cm, e)) return e->code;
         r->t_cond = aug_now() - t0;
-        have_cond = !o->no_cond;
-        if (!(r->cond.lambda_min > 0) || !(r->cond.cond < 0.01 / DBL_EPSILON))
-            return aug_err_set(e, AUG_EDATA, -1, "KMAT", "K is numerically singular: the solve of K a = f "
-                               "leaves relres %.3g > 1e-6 and cond(K) is %.3g > 4.5e13 (a mechanism, "
-                               "pieces hinged on an edge or a node, or a stiffness jump past double "
-                               "precision?)", r->relres, r->cond.cond);
     }
-    if (!o->no_cond && !have_cond) {
-        t0 = aug_now();
-        if (aug_cond_estimate(F, r->L, o->cond_tol, &r->cond, cm, e)) return e->code;
-        r->t_cond = aug_now() - t0;
-    }
+    if (suspect && (!(r->cond.lambda_min > 0) || !(r->cond.cond < 0.01 / DBL_EPSILON)))
+        return aug_err_set(e, AUG_EDATA, -1, "KMAT", "K is numerically singular: the solve of K a = f "
+                           "leaves relres %.3g > 1e-6 and cond(K) is %.3g > 4.5e13 (a mechanism, "
+                           "pieces hinged on an edge or a node, or a stiffness jump past double "
+                           "precision?)", r->relres, r->cond.cond);
     if (o->modes) {
         cholmod_sparse *M = o->dyn ? (o->dyn->mass == AUG_MAT_M ? r->M : r->ML) : r->M ? r->M : r->ML;
         if (!M) return aug_err_set(e, AUG_EUSAGE, -1, "", "--modes needs a mass matrix");

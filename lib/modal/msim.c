@@ -725,7 +725,6 @@ out:
 
 /* ---- cut steps ---- */
 
-
 /* the constraints (local DOF, value) and owner loads of domain d on m equal
    those of its sub-mesh? */
 static int same_bc(const aug_mdomain *d, const aug_mesh *m, const int32_t *owner, const int32_t *loc)

@@ -733,25 +733,23 @@ static void auto_stats(const aug_solver *s, const step_res *r, aug_kv *st, aug_k
 {
     const aug_auto *a = &s->au;
     if (!r->ran) return;
-    if (s->o.dynamic) { /* AMPS on K0's base per step (prep_method): no model ran, none of its keys */
-        put(st, "choice", AUG_AUTO_AMPS);
-        put(st, "reason", AUG_AUTO_DYNAMIC);
-        put(st, "s2_flops", s->amps.schur.flops);
-        amps_stats(s, r, st, tm);
-        return;
+    /* a dynamic stream: AMPS on K0's base per step (prep_method), no model
+       ran, none of its keys */
+    int dyn = s->o.dynamic;
+    put(st, "choice", dyn ? AUG_AUTO_AMPS : a->choice);
+    put(st, "reason", dyn ? AUG_AUTO_DYNAMIC : a->reason);
+    if (!dyn) {
+        put(st, "on_base", a->on_base);
+        /* estimates from measured times: tIMe, not sTAt (formats 7.4) */
+        put(tm, "est_amps_ms", a->est_amps);
+        put(tm, "est_factor_ms", a->est_factor);
+        put(tm, "excess_ms", a->excess);
+        if (s->o.horizon > 0 || (s->o.horizon < 0 && s->plan_last > 0)) put(st, "steps_left", (double)steps_left(s));
+        put(st, "bg_start", a->want_bg);
+        put(st, "est_s2_flops", a->w_next);
+        put(st, "base_no", a->nbase + (a->choice == AUG_AUTO_REFACTOR));
     }
-    put(st, "choice", a->choice);
-    put(st, "reason", a->reason);
-    put(st, "on_base", a->on_base);
-    /* estimates from measured times: tIMe, not sTAt (formats 7.4) */
-    put(tm, "est_amps_ms", a->est_amps);
-    put(tm, "est_factor_ms", a->est_factor);
-    put(tm, "excess_ms", a->excess);
-    if (s->o.horizon > 0 || (s->o.horizon < 0 && s->plan_last > 0)) put(st, "steps_left", (double)steps_left(s));
-    put(st, "bg_start", a->want_bg);
-    put(st, "est_s2_flops", a->w_next);
-    put(st, "base_no", a->nbase + (a->choice == AUG_AUTO_REFACTOR));
-    if (a->choice == AUG_AUTO_AMPS) {
+    if (dyn || a->choice == AUG_AUTO_AMPS) {
         put(st, "s2_flops", s->amps.schur.flops);
         amps_stats(s, r, st, tm);
     } else {

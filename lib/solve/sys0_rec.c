@@ -3,6 +3,7 @@
    checked against each other and the DOF numbering before a solver is made. */
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "aug_fem.h"
@@ -128,13 +129,11 @@ int aug_sys0_solver(aug_sys0 *s, int64_t nfree, const aug_solver_opts *o, const 
     }
     double lim = fmax(AUG_SYS0_TOL, fmin(AUG_SYS0_COND * cond * DBL_EPSILON, 1e-2));
     if (!(rr <= lim)) {
-        if (isnan(cond))
-            return aug_err_set(e, AUG_EDATA, s->l_index, "FACT",
-                               "does not factor the KMAT of record %ld (relres %.3g of its solve of "
-                               "FVEC record %ld)", ki, rr, s->f_index);
+        char allows[64] = "";
+        if (!isnan(cond)) snprintf(allows, sizeof allows, "; cond %.3g allows %.3g", cond, lim);
         return aug_err_set(e, AUG_EDATA, s->l_index, "FACT",
                            "does not factor the KMAT of record %ld (relres %.3g of its solve of "
-                           "FVEC record %ld; cond %.3g allows %.3g)", ki, rr, s->f_index, cond, lim);
+                           "FVEC record %ld%s)", ki, rr, s->f_index, allows);
     }
     aug_solver_opts so = *o;
     so.dynamic = s->dynamic;
