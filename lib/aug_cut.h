@@ -484,6 +484,7 @@ typedef struct aug_cut_step {
     int64_t bad_size;
     int64_t nsmall;              /* pieces auto dropped as below AUG_DETACH_SHARE */
     double small_share;          /* their volume share of the mesh, summed */
+    int64_t nseparated;          /* nodes copied to separate dropped pieces (cut_step.c separate_piece) */
 } aug_cut_step;
 int aug_cutter_init(aug_cutter *c, aug_mesh *m, int64_t nn0, const int32_t *map0,
                     int64_t nfree0, aug_err *e);

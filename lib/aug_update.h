@@ -81,6 +81,11 @@ typedef struct aug_pathrec {
 
 void aug_mdelta_init(aug_mdelta *d);
 void aug_mdelta_free(aug_mdelta *d);
+/* d := d followed by d2 (made on the mesh after d, adding no elements) as one
+   MDLT; old (connectivity before d of the re-wired elements) extended with
+   old2 (before d2). ne0: element count before d. 0 or -1 (memory). */
+int aug_mdelta_merge(aug_mdelta *d, int32_t **old, int nv, int dim, int64_t ne0, const aug_mdelta *d2,
+                     const int32_t *old2);
 void aug_update_init(aug_update *u);
 void aug_update_free(aug_update *u);
 

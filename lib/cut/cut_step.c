@@ -88,6 +88,77 @@ static double piece_share(const aug_mesh *m, const aug_pieces *p, int32_t id)
     return all > 0 ? v / all : 0;
 }
 
+/* Piece id given copies of the nodes it shares with the rest of the mesh
+   (node duplication, paper 001 sec. 4.3.2, as a cut separates): a sliver
+   face-disconnected from the body may still hang on one of its edges or
+   nodes, and dropped with those nodes kept (aug_detach_drop fixes only the
+   piece's own nodes) its elements tied the body's hinge nodes to fixed ones
+   by their whole stiffness and mass, a spring that pinned the body there
+   (the armadillo of tests/cut_detach.test: max |u| 1.6e5 before the drop,
+   2.9e4 after). Once separated the piece holds only its own nodes, and
+   fixing them all removes it from K_t exactly: its rows become identity
+   rows, the hinge nodes lose its contributions. The copies and re-wired
+   elements join the step's MDLT (aug_mdelta_merge); the mesh, adjacency and
+   face neighbours follow. 0, or an error. */
+static int separate_piece(aug_cutter *c, aug_cut_step *s, const aug_pieces *pp, int32_t id, aug_err *e)
+{
+    aug_mesh *m = c->m;
+    int nv = m->nv;
+    int64_t nsh = 0;
+    int32_t *sh = NULL, *old2 = NULL, *conn = aug_malloc((size_t)nv * sizeof *conn);
+    unsigned char *mk = aug_calloc((size_t)m->nn + 1, 1);
+    aug_mdelta d2;
+    aug_mdelta_init(&d2);
+    if (!conn || !mk) goto nomem;
+    for (int64_t el = 0; el < m->ne; el++)
+        if (pp->piece[el] == id)
+            for (int a = 0; a < nv; a++) {
+                int32_t v = m->conn[el * nv + a];
+                if (mk[v]) continue;
+                mk[v] = 1;
+                for (int32_t t = 0; t < c->adj.cnt[v]; t++)
+                    if (pp->piece[c->adj.list[v][t]] != id) mk[v] = 2;
+            }
+    for (int64_t v = 0; v < m->nn; v++) nsh += mk[v] == 2;
+    if (nsh == 0) goto done;
+    sh = aug_malloc((size_t)nsh * sizeof *sh);
+    if (!sh) goto nomem;
+    nsh = 0;
+    for (int64_t v = 0; v < m->nn; v++)
+        if (mk[v] == 2) sh[nsh++] = (int32_t)v;
+    /* each shared node copied once, in node order; the piece's elements re-wired to the copies */
+    for (int64_t i = 0; i < nsh; i++) {
+        int32_t v = sh[i], cp = aug_edit_node(&c->ed, aug_edit_x(&c->ed, v), v);
+        if (cp < 0) goto nomem;
+        for (int32_t t = 0; t < c->adj.cnt[v];) {
+            int32_t el = c->adj.list[v][t];
+            if (pp->piece[el] != id) { t++; continue; }
+            memcpy(conn, aug_edit_conn(&c->ed, el), (size_t)nv * sizeof *conn);
+            for (int a = 0; a < nv; a++)
+                if (conn[a] == v) conn[a] = cp;
+            if (aug_edit_set(&c->ed, el, conn)) goto nomem; /* el leaves v's list */
+        }
+    }
+    int rc = aug_edit_end(&c->ed, s->step, &d2, &old2, e);
+    if (!rc) rc = aug_mesh_apply(m, &d2, e);
+    if (rc) goto fail;
+    aug_edit_begin(&c->ed);
+    if (aug_facenbr_update(&c->fn, m, &c->adj, d2.elem, d2.nmod) ||
+        aug_mdelta_merge(&s->d, &s->oldconn, nv, m->dim, s->ne_before, &d2, old2))
+        goto nomem;
+    s->nseparated += nsh;
+done:
+    free(sh), free(old2), free(conn), free(mk);
+    aug_mdelta_free(&d2);
+    return 0;
+nomem:
+    aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
+fail:
+    free(sh), free(old2), free(conn), free(mk);
+    aug_mdelta_free(&d2);
+    return e->code;
+}
+
 /* bc += pull forces; while a piece is unsupported: error, or bc += its supports;
    u = the UPDT of (d, bc) (AMPS eq. 3.1); then the mesh takes bc */
 int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e)
@@ -132,7 +203,8 @@ int aug_cutter_update(aug_cutter *c, aug_cut_step *s, aug_err *e)
             rc = aug_detach_pin(c->m, pp, id, &s->bc, &add, e);
             s->d.flags |= AUG_STEP_PINNED;
         } else {
-            rc = aug_detach_drop(c->m, pp, id, &s->bc, &add, e);
+            rc = separate_piece(c, s, pp, id, e);
+            if (!rc) rc = aug_detach_drop(c->m, pp, id, &s->bc, &add, e);
             s->d.flags |= AUG_STEP_DROPPED;
         }
         for (int64_t i = 0; rc == 0 && i < add.nfix; i++)
@@ -174,6 +246,7 @@ int aug_cut_step_write(aug_writer *w, const aug_mesh *m, const aug_cut_step *s, 
     aug_kv_set(&q, "pieces", (double)s->npieces);
     aug_kv_set(&q, "dropped_small", (double)s->nsmall);
     aug_kv_set(&q, "dropped_share", s->small_share);
+    aug_kv_set(&q, "separated", (double)s->nseparated);
     aug_kv_set(&q, "flags", s->d.flags);
     if (aug_write_kv(w, "sTAt", s->step, &q, e)) return e->code;
     aug_kv_init(&q, "cut");

@@ -15,6 +15,55 @@ void aug_mdelta_free(aug_mdelta *d)
     free(d->mat_add);
     aug_mdelta_init(d);
 }
+/* d := d then d2 as one step's MDLT (formats/stream.md 7.1), where d2 was
+   made on the mesh after d (so its new nodes follow d's and it adds no
+   elements); old: the connectivity before d of d's re-wired elements (in
+   d->elem's order), extended with those d2 re-wires first; ne0: the element
+   count before d. A re-wired element of d, or one d added, takes d2's
+   connectivity. 0, or -1 (memory: d and *old as they were). */
+int aug_mdelta_merge(aug_mdelta *d, int32_t **old, int nv, int dim, int64_t ne0, const aug_mdelta *d2,
+                     const int32_t *old2)
+{
+    int64_t nnew = d->nnew + d2->nnew, nmod = d->nmod, extra = 0;
+    for (int64_t i = 0; i < d2->nmod; i++) {
+        int32_t el = d2->elem[i];
+        if (el < ne0 && !bsearch(&el, d->elem, (size_t)d->nmod, sizeof el, aug_cmp_i32)) extra++;
+    }
+    int32_t *parent = aug_malloc((size_t)nnew * sizeof *parent + 1);
+    double *x = aug_malloc((size_t)(nnew * dim) * sizeof *x + 1);
+    int32_t *elem = aug_malloc((size_t)(nmod + extra) * sizeof *elem + 1);
+    int32_t *conn = aug_malloc((size_t)((nmod + extra) * nv) * sizeof *conn + 1);
+    int32_t *oc = aug_malloc((size_t)((nmod + extra) * nv) * sizeof *oc + 1);
+    if (!parent || !x || !elem || !conn || !oc) {
+        free(parent), free(x), free(elem), free(conn), free(oc);
+        return -1;
+    }
+    if (d->nnew) memcpy(parent, d->parent, (size_t)d->nnew * sizeof *parent);
+    if (d2->nnew) memcpy(parent + d->nnew, d2->parent, (size_t)d2->nnew * sizeof *parent);
+    if (d->nnew) memcpy(x, d->x, (size_t)(d->nnew * dim) * sizeof *x);
+    if (d2->nnew) memcpy(x + d->nnew * dim, d2->x, (size_t)(d2->nnew * dim) * sizeof *x);
+    /* the two increasing lists of re-wired elements merged; d2's connectivity wins */
+    int64_t a = 0, b = 0, k = 0;
+    while (a < d->nmod || b < d2->nmod) {
+        int32_t ea = a < d->nmod ? d->elem[a] : INT32_MAX, eb = b < d2->nmod ? d2->elem[b] : INT32_MAX;
+        if (eb >= ne0 && b < d2->nmod) { /* an element d added */
+            memcpy(d->conn_add + (eb - ne0) * nv, d2->conn + b * nv, (size_t)nv * sizeof *conn);
+            b++;
+            continue;
+        }
+        elem[k] = ea <= eb ? ea : eb;
+        memcpy(oc + k * nv, ea <= eb ? *old + a * nv : old2 + b * nv, (size_t)nv * sizeof *oc);
+        memcpy(conn + k * nv, eb <= ea ? d2->conn + b * nv : d->conn + a * nv, (size_t)nv * sizeof *conn);
+        if (ea <= eb) a++;
+        if (eb <= ea) b++;
+        k++;
+    }
+    free(d->parent), free(d->x), free(d->elem), free(d->conn), free(*old);
+    d->parent = parent, d->x = x, d->nnew = nnew;
+    d->elem = elem, d->conn = conn, d->nmod = k, *old = oc;
+    return 0;
+}
+
 void aug_update_init(aug_update *u) { memset(u, 0, sizeof *u); }
 void aug_update_free(aug_update *u)
 {

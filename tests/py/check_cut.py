@@ -31,6 +31,11 @@ cuts, whose command lines (their pROv records) say what each step must do.
   copies on a cut segment, inserted nodes on the step's segments next to
   their parent, every pATH segment a mesh edge, and at every node on the cut
   so far its star split into classes along the cut edges, one node a class;
+- a step that drops a piece (MDLT flag 4) separates it first (7.1): every
+  element at a node the step's BDLT constrains in full has all its nodes
+  constrained in full; the copies that separate it follow the cut's own
+  (planar: after the copies of the cut nodes), each at its parent,
+  constrained in full and held only by such elements;
 - K_t and f_t accumulated from K_0 (KMAT of IN, or assembled here when IN has
   none) and the UPDT records (k = dim * new nodes) equal the cut system
   assembled here (tet4, hex8, tri3 plane stress) on the step's mesh at every step,
@@ -258,6 +263,7 @@ class Checker:
         self.pairs, self.inserted = {}, {}
         self.fm = conform.face_map(cm.conn)
         self.segs = []  # cut segments of the path stages so far
+        self.any_drop = False  # a step so far dropped a piece (flag 4)
         self.cutidx = None
         self.step = 0
 
@@ -272,6 +278,18 @@ class Checker:
 
     def fail(self, msg):
         fail("step %d: %s" % (self.step, msg))
+
+    def held(self, v):
+        """every component of node v constrained"""
+        return all(v * self.dim + c in self.cm.fix for c in range(self.dim))
+
+    def drop_copy(self, v, p, node_elems):
+        """new node v (parent p) that separates a dropped piece (formats 7.1): at
+        its parent, constrained in full, held only by the step's dropped elements"""
+        if self.cm.x[v] != self.cm.x[p] or not self.held(v):
+            return False
+        es = node_elems.get(v, ())
+        return bool(es) and all(e in self.dropped for e in es)
 
     def star_classes(self, P, cut, node_elems, at, elems=None):
         """the elements with a corner at point P (or those of elems), in classes
@@ -309,8 +327,22 @@ class Checker:
         """the step duplicated the next K cut nodes of the plane, each as cut(1) says"""
         x, conn = self.cm.x, self.cm.conn
         nn0 = len(x) - len(d["parent"])
-        parents = sorted(set(d["parent"]))
-        for q, p in enumerate(d["parent"]):
+        want = sorted(pl.order[pl.next:pl.next + pl.per])
+        wanted = set(want)
+        # on a drop step, after the cut's copies (of the cut nodes), the copies
+        # that separate the dropped pieces (of nodes the cut did not reach)
+        node_elems, at = self.adjacency()
+        ncut = len(d["parent"])
+        if d["flags"] & 4:
+            self.any_drop = True
+            ncut = next((q for q, p in enumerate(d["parent"]) if p not in wanted), ncut)
+            for q in range(ncut, len(d["parent"])):
+                p = d["parent"][q]
+                if p in wanted or not self.drop_copy(nn0 + q, p, node_elems):
+                    self.fail("new node %d (parent %d) is neither a copy of a cut node nor one that "
+                              "separates a dropped piece" % (nn0 + q, p))
+        parents = sorted(set(d["parent"][:ncut]))
+        for q, p in enumerate(d["parent"][:ncut]):
             if p >= nn0 or x[nn0 + q] != x[p]:
                 self.fail("new node %d is no copy of a node of the mesh before the step (parent %d)" % (nn0 + q, p))
             if p not in pl.cutset:
@@ -319,32 +351,37 @@ class Checker:
                 self.fail("node %d is duplicated %g away from the plane" % (p, abs(dot(x[p], pl.n) - pl.d)))
         if d["cadd"]:
             self.fail("a planar cut adds %d elements" % len(d["cadd"]))
-        if len(parents) != min(pl.per, len(pl.order) - pl.next):
+        # a cut node that an earlier drop separated may need no copy (its star
+        # then holds one class, checked below); else each of the next K has copies
+        if not self.any_drop and len(parents) != min(pl.per, len(pl.order) - pl.next):
             self.fail("%d nodes duplicated, --per-step asks for %d" % (len(parents), pl.per))
-        want = sorted(pl.order[pl.next:pl.next + pl.per])
-        if parents != want:
+        if parents != want and not (self.any_drop and set(parents) <= wanted):
             self.fail("duplicated nodes %s, the next cut nodes in advance order are %s%s" % (
                 parents, want, " (%d element centroids within 1e-12 of the plane)" % pl.ambiguous if pl.ambiguous else ""))
-        pl.next += len(parents)
+        pl.next += len(want)
         # the star of each parent: classes along the cut faces, the - side keeps the node
-        node_elems, at = self.adjacency()
 
         def cut(key, e1, e2):
             return pl.cut_face(e1, e2) or key in pairs_before
         copies = {}
-        for q, p in enumerate(d["parent"]):
+        for q, p in enumerate(d["parent"][:ncut]):
             copies.setdefault(p, []).append(nn0 + q)
-        for p in parents:
+        for p in want:
             star = [e for e in range(len(conn_before)) if p in conn_before[e]]
             cl = self.star_classes(x[p], cut, node_elems, at, star)
             keep = min(cl, key=lambda c: min(pl.rank(e) for e in c[0]))
             if keep[1] != p:
                 self.fail("node %d: the class of element %d (the - side) does not keep it" % (p, keep[0][0]))
-            if sorted(v for _, v in cl if v != p) != copies[p]:
+            if sorted(v for _, v in cl if v != p) != copies.get(p, []):
                 self.fail("node %d: %d classes around it, copies %s" % (p, len(cl), copies[p]))
         cmap = {nn0 + q: p for q, p in enumerate(d["parent"])}
+
+        def origin(v):
+            while v in cmap:
+                v = cmap[v]
+            return v
         for e in d["elem"]:
-            if tuple(cmap.get(v, v) for v in conn[e]) != conn_before[e]:
+            if tuple(origin(v) for v in conn[e]) != conn_before[e]:
                 self.fail("element %d re-wired from %s to %s, not to copies of its nodes" % (e, conn_before[e], conn[e]))
         # the faces the step opens: the cut faces at the duplicated nodes, still closed before
         new_pairs = [g for g in self.pairs if g not in pairs_before]
@@ -406,7 +443,7 @@ class Checker:
         for q, p in enumerate(d["parent"]):
             v = nn0 + q
             if x[v] == x[p]:
-                if cutidx.find([x[v]]) < 0:
+                if cutidx.find([x[v]]) < 0 and not (d["flags"] & 4 and self.drop_copy(v, p, node_elems)):
                     self.fail("node %d is duplicated (copy %d) but lies on no cut segment" % (p, v))
                 continue
             if stepidx.find([x[v]]) < 0:
@@ -438,10 +475,25 @@ class Checker:
         pairs_before = self.pairs
         try:
             cm.apply_mdlt(d)
+            held = {v for v in range(len(cm.x)) if self.held(v)}
             if "BDLT" in rec:
                 cm.apply_bdlt(cutsys.bdlt(rec["BDLT"]))
         except (cutsys.Bad, struct.error) as e:
             self.fail(str(e))
+        # a dropped piece (flags 4) shares no node with the rest of the mesh:
+        # every element at a node the step's BDLT constrains in full has all
+        # its nodes constrained in full (else the piece, fixed, still hangs
+        # on free nodes of the body and holds them by its stiffness)
+        self.dropped = set()
+        if d["flags"] & 4:
+            newly = {v for v in range(len(cm.x)) if v not in held and self.held(v)}
+            for e, c in enumerate(cm.conn):
+                if any(v in newly for v in c):
+                    free = [v for v in c if not self.held(v)]
+                    if free:
+                        self.fail("element %d of a dropped piece holds node %d, which is not constrained: "
+                                  "the piece still hangs on the mesh" % (e, free[0]))
+                    self.dropped.add(e)
         # a copy's origin is its parent's; nodes inserted at one point (on the two sides of a cut) share one
         for q, p in enumerate(d["parent"]):
             v = nn_before + q
