@@ -211,6 +211,7 @@ int main(int argc, char **argv)
     parse(&t, argc, argv, &o);
     aug_set_threads(1); /* GSL's small eigenproblems call OpenBLAS: no idle spinning threads */
     aug_replay_init(&rp);
+    rp.check_sys = 1; /* KMAT, FVEC, FACT pass on unread: checked here */
     aug_tool_open_in(&t, o.file);
     aug_tool_open_out(&t);
     if (o.deflate) aug_writer_deflate(t.w, 65536);

@@ -163,6 +163,7 @@ int main(int argc, char **argv)
     aug_tool_init(&t, "refine", argc, argv);
     parse(&t, argc, argv, &o);
     aug_replay_init(&s.rp);
+    s.rp.check_sys = 1; /* KMAT, FVEC, FACT pass on unread: checked here */
     aug_tool_open_in(&t, o.file);
     aug_tool_open_out(&t);
     if (o.deflate) aug_writer_deflate(t.w, 65536);

@@ -57,6 +57,10 @@ typedef struct aug_replay {
     int32_t *out_dof;          /* aug_replay_out_dofs' array */
     int dynamic;               /* a DYNP was read (formats/stream.md 6.6) into dyn */
     aug_dynp dyn;
+    int check_sys;             /* 1: check KMAT, FVEC and FACT too (aug_replay_add; cut, refine, stats) */
+    int64_t sys_n;             /* ... the order of the first of them, while no DOFM is read (-1: none) */
+    long sys_index;            /* ... its record */
+    char sys_type[5];          /* ... and type */
     int track;                 /* 1: note in chg the elements each applied MDLT re-wires or adds */
     int32_t *chg;              /* ... until its reader (aug_react_sync) empties it */
     int64_t nchg, chgcap;

@@ -10,6 +10,7 @@ void aug_replay_init(aug_replay *r)
     memset(r, 0, sizeof *r);
     aug_mesh_init(&r->mesh);
     r->step_limit = INT32_MAX;
+    r->sys_n = -1;
 }
 
 void aug_replay_free(aug_replay *r)
@@ -107,6 +108,35 @@ int aug_replay_start(aug_replay *r, aug_err *e)
     return resolve_output(r, e);
 }
 
+/* formats/stream.md 6.1-6.4: KMAT, FVEC and FACT are over DOFM's free
+   DOFs. cut and refine pass them on byte for byte without reading them, so
+   (check_sys) each is checked here by its codec and its order against
+   DOFM's (the first one read before a DOFM when it comes): a damaged or
+   misfit matrix is refused by the tool it passed through, not written on
+   as whole. solve-aug and modal read them through aug_sys0, which checks
+   the same; stats sets it too, for its summary. */
+static int sys_order(aug_replay *r, int64_t n, long index, const char *type, aug_err *e)
+{
+    if (!r->have_dofm) {
+        if (r->sys_n < 0) r->sys_n = n, r->sys_index = index, memcpy(r->sys_type, type, 4);
+        return 0;
+    }
+    if (n == r->nfree0) return 0;
+    return aug_err_set(e, AUG_EDATA, index, type, "order %lld, but DOFM has %lld free DOFs", (long long)n,
+                       (long long)r->nfree0);
+}
+
+static int check_sys(aug_replay *r, const aug_rec *rec, aug_err *e)
+{
+    int k = !memcmp(rec->type, "KMAT", 4) ? 0 : !memcmp(rec->type, "FVEC", 4) ? 1 : !memcmp(rec->type, "FACT", 4) ? 2 : -1;
+    if (k < 0) return 0;
+    if (aug_check_payload(rec, e)) return e->code;
+    aug_cur c; /* n: after which and stype (KMAT), kind and 0 (FVEC), first (FACT) */
+    aug_cur_init(&c, rec);
+    if (k < 2) aug_cur_i32(&c), aug_cur_i32(&c);
+    return sys_order(r, aug_cur_i64(&c), rec->index, rec->type, e);
+}
+
 /* DOFM: the numbering of the mesh's constraints, or, without a mesh, the numbering */
 static int add_dofm(aug_replay *r, const aug_rec *rec, aug_err *e)
 {
@@ -121,7 +151,7 @@ static int add_dofm(aug_replay *r, const aug_rec *rec, aug_err *e)
         r->nfree0 = nfree;
         r->have_dofm = 1;
         r->kt_n = nfree;
-        return 0;
+        return r->sys_n >= 0 ? sys_order(r, r->sys_n, r->sys_index, r->sys_type, e) : 0;
     }
     int same = dim == r->dim && ndof == r->nn0 * r->dim && nfree == r->nfree0 &&
                !memcmp(map, r->map0, (size_t)ndof * sizeof *map);
@@ -131,7 +161,7 @@ static int add_dofm(aug_replay *r, const aug_rec *rec, aug_err *e)
                            "DOF numbering does not match the mesh's constraints");
     r->have_dofm = 1;
     r->kt_n = r->nfree0;
-    return 0;
+    return r->sys_n >= 0 ? sys_order(r, r->sys_n, r->sys_index, r->sys_type, e) : 0;
 }
 
 /* chg += the elements d re-wired (d->elem) and added (ne0 .. ne0 + nadd - 1) */
@@ -216,6 +246,8 @@ static int plan_agrees(const aug_replay *r, const aug_rec *rec, aug_err *e)
 int aug_replay_end(const aug_replay *r, aug_err *e)
 {
     aug_err_clear(e);
+    if (r->sys_n >= 0 && !r->have_dofm)
+        return aug_err_set(e, AUG_EDATA, r->sys_index, r->sys_type, "no DOFM gives the free DOFs it is over");
     /* formats/stream.md 7.1: the last step's deltas need their UPDT too
        (a stream with UPDTs whose last one was dropped ends one step short) */
     if ((r->updt_step > 0 || r->have_kmat) && r->delta_lo > 0)
@@ -284,6 +316,7 @@ int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
     const aug_rectype *rt = aug_rectype_find(rec->type);
     if (rt && rt->phase >= 2 && rt->phase <= 3 && aug_replay_start(r, e)) return e->code;
     if (aug_replay_steps(r, rec, e)) return e->code;
+    if (r->check_sys && check_sys(r, rec, e)) return e->code;
     if (!memcmp(rec->type, "KMAT", 4)) r->have_kmat = 1;
     if (!memcmp(rec->type, "pLAN", 4)) return add_plan(r, rec, e);
     if (!memcmp(rec->type, "DOFM", 4)) return add_dofm(r, rec, e);

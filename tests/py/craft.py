@@ -7,6 +7,8 @@ few valid streams no tool writes (rewrite, csv-names).
 usage: craft.py KIND IN [IN2] > OUT
   dofm-swap      DOFM with a fixed and a free DOF exchanged (same ndof, nfree)
   fact-from IN2  IN with its FACT replaced by IN2's (a factor of another K)
+  kmat-from IN2  IN with its KMAT replaced by IN2's (of another order when
+                 IN2 has other constraints)
   fvec-nan       the first FVEC's entry 0 = NaN
   mdlt-nan       the first MDLT's first new node x = NaN
   mdlt-huge      the first MDLT's first new node x = 1e150 (finite, beyond 1e30)
@@ -141,9 +143,10 @@ def main():
                 k += 1
         struct.pack_into("<%di" % ndof, p, 24, *m)
         put(recs, i, p)
-    elif kind == "fact-from":
+    elif kind in ("fact-from", "kmat-from"):
+        t = kind[:4].upper()
         other = records(open(sys.argv[3], "rb").read())
-        recs[first(recs, "FACT")] = other[first(other, "FACT")]
+        recs[first(recs, t)] = other[first(other, t)]
     elif kind == "fvec-nan":
         i = first(recs, "FVEC")
         p = bytearray(recs[i][3])
