@@ -208,13 +208,28 @@ static int push_seg(double **seg, int64_t *nseg, int64_t *cap, const double *a, 
     return 0;
 }
 
+/* the segment ab among segments lo..hi-1 of seg, either way round: by
+   position, as formats 7.6 lists each edge once. Node numbers do not tell:
+   after an earlier cut (cut | cut) two faces at a cut node may hold a node
+   and its copy, one edge of the mesh under two numberings (the armadillo,
+   a second plane: 8 segments for 7 edges) */
+static int seg_seen(const double *seg, int64_t lo, int64_t hi, const double *a, const double *b, int dim)
+{
+    size_t sz = (size_t)dim * sizeof *a;
+    for (int64_t i = lo; i < hi; i++) {
+        const double *p = seg + i * 2 * dim, *q = p + dim;
+        if ((!memcmp(p, a, sz) && !memcmp(q, b, sz)) || (!memcmp(p, b, sz) && !memcmp(q, a, sz))) return 1;
+    }
+    return 0;
+}
+
 /* duplicate cut nodes next .. next+count-1: the + side of each star gets a copy */
 int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg, int64_t *nseg,
                    aug_err *e)
 {
     aug_err_clear(e);
     int dim = pc->dim;
-    int64_t cap = *nseg;
+    int64_t cap = *nseg, nseg0 = *nseg;
     aug_edgemap done = {0};
     if (pc->next >= pc->ncut)
         return aug_err_set(e, AUG_EDATA, -1, "MDLT", "all %lld cut nodes of the plane are cut",
@@ -235,8 +250,9 @@ int aug_plane_step(aug_plane_cut *pc, aug_edit *ed, int64_t count, double **seg,
                     for (int y = x + 1; y < nf; y++) {
                         if (nf == 4 && y != x + 1 && !(x == 0 && y == 3)) continue;
                         if (aug_edgemap_get(&done, f[x], f[y])) continue;
-                        if (!aug_edgemap_put(&done, f[x], f[y]) ||
-                            push_seg(seg, nseg, &cap, aug_edit_x(ed, f[x]), aug_edit_x(ed, f[y]), dim))
+                        if (!aug_edgemap_put(&done, f[x], f[y])) goto nomem;
+                        const double *xa = aug_edit_x(ed, f[x]), *xb = aug_edit_x(ed, f[y]);
+                        if (!seg_seen(*seg, nseg0, *nseg, xa, xb, dim) && push_seg(seg, nseg, &cap, xa, xb, dim))
                             goto nomem;
                     }
             }

@@ -31,11 +31,12 @@ cuts, whose command lines (their pROv records) say what each step must do.
   copies on a cut segment, inserted nodes on the step's segments next to
   their parent, every pATH segment a mesh edge, and at every node on the cut
   so far its star split into classes along the cut edges, one node a class;
-- a step that drops a piece (MDLT flag 4) separates it first (7.1): every
-  element at a node the step's BDLT constrains in full has all its nodes
-  constrained in full; the copies that separate it follow the cut's own
-  (planar: after the copies of the cut nodes), each at its parent,
-  constrained in full and held only by such elements;
+- a step that drops a piece (MDLT flag 4) separates it first (7.1): a
+  face-connected piece holding a node the step's BDLT constrains in full,
+  whose own nodes are all constrained in full, holds no node of another
+  element; the copies that separate it follow the cut's own (planar: after
+  the copies of the cut nodes), each at its parent, constrained in full and
+  held only by such pieces; a cut node a drop split already needs no copy;
 - K_t and f_t accumulated from K_0 (KMAT of IN, or assembled here when IN has
   none) and the UPDT records (k = dim * new nodes) equal the cut system
   assembled here (tet4, hex8, tri3 plane stress) on the step's mesh at every step,
@@ -279,6 +280,50 @@ class Checker:
     def fail(self, msg):
         fail("step %d: %s" % (self.step, msg))
 
+    def check_dropped(self, fm):
+        """a dropped piece shares no node with the rest of the mesh (7.1): of
+        the face-connected pieces at a node the step's BDLT constrains in full
+        (self.newly), one whose own nodes are all constrained in full (a
+        dropped piece, not a region --constrain holds inside the body nor a
+        pinned one) holds no node of another element (else, fixed, it still
+        hangs on the body and holds it there by its stiffness); its elements
+        are self.dropped"""
+        self.dropped = set()
+        if not self.newly:
+            return
+        conn = self.cm.conn
+        root = list(range(len(conn)))
+
+        def find(a):
+            while root[a] != a:
+                root[a] = root[root[a]]
+                a = root[a]
+            return a
+        for uses in fm.values():
+            if len(uses) == 2:
+                a, b = find(uses[0][0]), find(uses[1][0])
+                if a != b:
+                    root[a] = b
+        pieces = {}
+        for e in range(len(conn)):
+            pieces.setdefault(find(e), []).append(e)
+        users = {}
+        for e, c in enumerate(conn):
+            for v in c:
+                users.setdefault(v, set()).add(find(e))
+        for els in pieces.values():
+            nodes = {v for e in els for v in conn[e]}
+            if not nodes & self.newly:
+                continue
+            own = [v for v in nodes if len(users[v]) == 1]
+            if not own or not all(self.held(v) for v in own):
+                continue
+            shared = sorted(v for v in nodes if len(users[v]) > 1)
+            if shared:
+                self.fail("element %d of a dropped piece holds node %d, which other elements hold too: "
+                          "the piece still hangs on the mesh" % (els[0], shared[0]))
+            self.dropped.update(els)
+
     def held(self, v):
         """every component of node v constrained"""
         return all(v * self.dim + c in self.cm.fix for c in range(self.dim))
@@ -334,7 +379,6 @@ class Checker:
         node_elems, at = self.adjacency()
         ncut = len(d["parent"])
         if d["flags"] & 4:
-            self.any_drop = True
             ncut = next((q for q, p in enumerate(d["parent"]) if p not in wanted), ncut)
             for q in range(ncut, len(d["parent"])):
                 p = d["parent"][q]
@@ -480,20 +524,10 @@ class Checker:
                 cm.apply_bdlt(cutsys.bdlt(rec["BDLT"]))
         except (cutsys.Bad, struct.error) as e:
             self.fail(str(e))
-        # a dropped piece (flags 4) shares no node with the rest of the mesh:
-        # every element at a node the step's BDLT constrains in full has all
-        # its nodes constrained in full (else the piece, fixed, still hangs
-        # on free nodes of the body and holds them by its stiffness)
-        self.dropped = set()
+        self.newly = set()
         if d["flags"] & 4:
-            newly = {v for v in range(len(cm.x)) if v not in held and self.held(v)}
-            for e, c in enumerate(cm.conn):
-                if any(v in newly for v in c):
-                    free = [v for v in c if not self.held(v)]
-                    if free:
-                        self.fail("element %d of a dropped piece holds node %d, which is not constrained: "
-                                  "the piece still hangs on the mesh" % (e, free[0]))
-                    self.dropped.add(e)
+            self.any_drop = True
+            self.newly = {v for v in range(len(cm.x)) if v not in held and self.held(v)}
         # a copy's origin is its parent's; nodes inserted at one point (on the two sides of a cut) share one
         for q, p in enumerate(d["parent"]):
             v = nn_before + q
@@ -517,6 +551,7 @@ class Checker:
         err = conform.shared_errors(fm)
         if err:
             self.fail(err)
+        self.check_dropped(fm)
         on_cut = None if planar else lambda pts: self.cutidx.find(pts) >= 0
         self.pairs, err = conform.open_faces(cm.x, fm, self.outer, self.origin, on_cut)
         if err:
@@ -525,7 +560,9 @@ class Checker:
             self.fail("a face opened before is closed again: %s" % (sorted(set(pairs_before) - set(self.pairs))[0],))
         # the requested nodes were duplicated
         if planar:
-            if not d["parent"]:
+            # (a drop may have separated every cut node of the step already:
+            # plane_step checks that each of them has one class left)
+            if not d["parent"] and not self.any_drop:
                 self.fail("the step duplicates nothing: no new node")
             self.plane_step(stage[1], d, conn_before, fm_before, pairs_before, seg)
         else:
