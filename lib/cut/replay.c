@@ -128,12 +128,12 @@ static int sys_order(aug_replay *r, int64_t n, long index, const char *type, aug
 
 static int check_sys(aug_replay *r, const aug_rec *rec, aug_err *e)
 {
-    int k = !memcmp(rec->type, "KMAT", 4) ? 0 : !memcmp(rec->type, "FVEC", 4) ? 1 : !memcmp(rec->type, "FACT", 4) ? 2 : -1;
-    if (k < 0) return 0;
+    int fact = !memcmp(rec->type, "FACT", 4);
+    if (!fact && memcmp(rec->type, "KMAT", 4) && memcmp(rec->type, "FVEC", 4)) return 0;
     if (aug_check_payload(rec, e)) return e->code;
     aug_cur c; /* n: after which and stype (KMAT), kind and 0 (FVEC), first (FACT) */
     aug_cur_init(&c, rec);
-    if (k < 2) aug_cur_i32(&c), aug_cur_i32(&c);
+    if (!fact) aug_cur_i32(&c), aug_cur_i32(&c);
     return sys_order(r, aug_cur_i64(&c), rec->index, rec->type, e);
 }
 
