@@ -275,6 +275,9 @@ int aug_detach_find_one(const aug_mesh *m, const aug_adj *adj, const aug_bdelta 
                         aug_pieces *out, aug_err *e);
 /* Constraints (value 0) into b that hold piece id still: pin = 3-2-1 (2-D: 2-1)
    rigid-body supports; drop = every DOF of the piece. */
+/* Per node of m: 1 held by piece id alone, 3 by it and another piece (a
+   sliver hinged on the body), 0 not by it (malloc'd, nn bytes; NULL: memory). */
+unsigned char *aug_piece_marks(const aug_mesh *m, const aug_pieces *p, int32_t id);
 int aug_detach_pin(const aug_mesh *m, const aug_pieces *p, int32_t id, const aug_bdelta *extra,
                    aug_bdelta *b, aug_err *e);
 int aug_detach_drop(const aug_mesh *m, const aug_pieces *p, int32_t id, const aug_bdelta *extra,

@@ -106,26 +106,17 @@ static int separate_piece(aug_cutter *c, aug_cut_step *s, const aug_pieces *pp, 
     int nv = m->nv;
     int64_t nsh = 0;
     int32_t *sh = NULL, *old2 = NULL, *conn = aug_malloc((size_t)nv * sizeof *conn);
-    unsigned char *mk = aug_calloc((size_t)m->nn + 1, 1);
+    unsigned char *mk = aug_piece_marks(m, pp, id); /* 3: shared with another piece */
     aug_mdelta d2;
     aug_mdelta_init(&d2);
     if (!conn || !mk) goto nomem;
-    for (int64_t el = 0; el < m->ne; el++)
-        if (pp->piece[el] == id)
-            for (int a = 0; a < nv; a++) {
-                int32_t v = m->conn[el * nv + a];
-                if (mk[v]) continue;
-                mk[v] = 1;
-                for (int32_t t = 0; t < c->adj.cnt[v]; t++)
-                    if (pp->piece[c->adj.list[v][t]] != id) mk[v] = 2;
-            }
-    for (int64_t v = 0; v < m->nn; v++) nsh += mk[v] == 2;
+    for (int64_t v = 0; v < m->nn; v++) nsh += mk[v] == 3;
     if (nsh == 0) goto done;
     sh = aug_malloc((size_t)nsh * sizeof *sh);
     if (!sh) goto nomem;
     nsh = 0;
     for (int64_t v = 0; v < m->nn; v++)
-        if (mk[v] == 2) sh[nsh++] = (int32_t)v;
+        if (mk[v] == 3) sh[nsh++] = (int32_t)v;
     /* each shared node copied once, in node order; the piece's elements re-wired to the copies */
     for (int64_t i = 0; i < nsh; i++) {
         int32_t v = sh[i], cp = aug_edit_node(&c->ed, aug_edit_x(&c->ed, v), v);

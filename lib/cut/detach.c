@@ -524,6 +524,20 @@ int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn
     return aug_err_set(e, AUG_ENOMEM, -1, "", "out of memory finding detached pieces");
 }
 
+unsigned char *aug_piece_marks(const aug_mesh *m, const aug_pieces *p, int32_t id)
+{
+    unsigned char *mk = aug_calloc((size_t)m->nn + 1, 1);
+    if (!mk) return NULL;
+    for (int64_t el = 0; el < m->ne; el++)
+        if (p->piece[el] == id)
+            for (int a = 0; a < m->nv; a++) mk[m->conn[el * m->nv + a]] = 1;
+    for (int64_t el = 0; el < m->ne; el++)
+        if (p->piece[el] != id)
+            for (int a = 0; a < m->nv; a++)
+                if (mk[m->conn[el * m->nv + a]]) mk[m->conn[el * m->nv + a]] = 3;
+    return mk;
+}
+
 /* nodes of piece id, increasing; count in *n. Those it shares with other
    pieces (a sliver hinged on an edge or a node of the body: face-connected
    pieces meet there) are left out while at least dim others remain: fixing
@@ -531,17 +545,10 @@ int aug_detach_find(const aug_mesh *m, const aug_adj *adj, const aug_facenbr *fn
    max |u| 1.6e5 -> 1.8e4, reactions of 1.5e6 at two body nodes) */
 static int32_t *piece_nodes(const aug_mesh *m, const aug_pieces *p, int32_t id, int64_t *n)
 {
-    unsigned char *mk = aug_calloc((size_t)m->nn + 1, 1);
+    unsigned char *mk = aug_piece_marks(m, p, id);
     if (!mk) return NULL;
-    for (int64_t el = 0; el < m->ne; el++)
-        if (p->piece[el] == id)
-            for (int a = 0; a < m->nv; a++) mk[m->conn[el * m->nv + a]] = 1;
     int64_t k = 0, own = 0;
-    for (int64_t i = 0; i < m->nn; i++) k += mk[i];
-    for (int64_t el = 0; el < m->ne; el++)
-        if (p->piece[el] != id)
-            for (int a = 0; a < m->nv; a++) mk[m->conn[el * m->nv + a]] |= 2 * mk[m->conn[el * m->nv + a]];
-    for (int64_t i = 0; i < m->nn; i++) own += mk[i] == 1;
+    for (int64_t i = 0; i < m->nn; i++) k += mk[i] != 0, own += mk[i] == 1;
     unsigned char want = own >= m->dim ? 1 : 0; /* 0: every node of the piece (1 or 3) */
     int32_t *v = aug_malloc((size_t)k * sizeof *v + 1);
     if (v) {

@@ -962,7 +962,9 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
     /* (gmres: not when its output set's round stalled and the step went
        on to the whole field, aug_gmres_whole) */
     int whole = m == AUG_M_GMRES && aug_gmres_whole(s->gm) == 1;
+    double t_fill = 1e3 * aug_now();
     if (!r.sing && !q->full && !whole && (op->flags & M_BASED) && (rc = fill_rest(s, m, op, q, r.x, e))) return rc;
+    t_fill = 1e3 * aug_now() - t_fill;
     double rr = r.sing ? NAN : !isnan(rref) ? rref : aug_cutmat_relres(&s->cut, r.x);
     /* a direct method that cannot reach fail_tol, even refined, met a
        numerically singular K_t: report it, never the number; a non-finite
@@ -979,25 +981,18 @@ static int run_method(aug_solver *s, int m, const step_req *q, int detached, int
        S grew since, and the values cannot be told converged (the liver of
        bench/organs.sh, 8-node steps 11 and 15 with a 7-node output set:
        relres 1.3e-7 and 4.2e-7 at tol 1e-8, called not converged, while the
-       whole-field run converged every step). The step goes on as a
-       whole-field solve, as after a stalled round (gmres_aug.c), timed and
-       learning the tolerance anew; its field is whole, nothing filled in */
-    if (m == AUG_M_GMRES && r.ran && !r.sing && !r.conv && !q->full && !whole) {
-        step_req wq = *q;
-        wq.full = 1;
-        int it = r.iters;
-        double t1[4], tw = 1e3 * aug_now();
-        memcpy(t1, r.t, sizeof t1);
-        if ((rc = op->step(s, &wq, &r, e))) return rc;
-        total += 1e3 * aug_now() - tw;
-        for (int k = 0; k < 4; k++) r.t[k] += t1[k];
-        r.iters += it;
-        op->stats(s, &r, st, tm);
+       whole-field run converged every step). The rest fill_rest solved is
+       then a whole field solved to tol (aug_gmres_solve_general, learning
+       the Schur tolerance anew): it is the step's field, and its time and
+       iterations count, as after a stalled round (gmres_aug.c) */
+    if (m == AUG_M_GMRES && !r.sing && !r.conv && !q->full && !whole && aug_gmres_converged(s->gm)) {
+        memcpy(r.x, s->tmp2, (size_t)n * sizeof *r.x);
+        total += t_fill;
+        r.iters += aug_gmres_iters(s->gm);
         put(st, "whole", 1);
         put(st, "iters", r.iters);
         rr = aug_cutmat_relres(&s->cut, r.x);
-        if (!isfinite(rr)) r.sing = 1;
-        else if (r.conv && !iter_agrees(s, m, rr)) r.conv = 0;
+        r.conv = iter_agrees(s, m, rr);
     }
     /* AMPS far above a fresh factorization's residual, refined (AMPS_FAR) */
     int far = !r.sing && !detached && on_amps(s, m) && !s->amps_fb_ok && s->amps.floor_end > 0 && rr > AMPS_FAR * s->amps.floor_end;
