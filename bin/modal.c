@@ -225,7 +225,7 @@ static void start(aug_tool *t, const options *o, aug_replay *rp, session *ss, co
         aug_solver_opts so;
         aug_solver_opts_default(&so);
         so.nmeth = 1, so.order[0] = AUG_M_AMPS, so.nthreads = o->threads;
-        if (aug_sys0_solver(&ss->sys, rp->started ? rp->nfree0 : -1, &so, rec, &e)) fail_at(t, &e, rec);
+        if (aug_sys0_solver(&ss->sys, rp->have_dofm ? rp->nfree0 : -1, &so, rec, &e)) fail_at(t, &e, rec);
         ss->rp = rp;
         ss->ext = (aug_mext){ss, ext_n, ext_index, ext_solve};
         ss->sim.ext = &ss->ext;
@@ -410,7 +410,9 @@ int main(int argc, char **argv)
     aug_factor_options(&ss.cm, o.ordering, 0);
     aug_replay_init(&rp);
     rp.output = o.output;
+    long kmat_at = -1; /* the first KMAT: it needs a DOFM (formats/stream.md 6.1) */
     while (aug_tool_read(&t, &rec)) {
+        if (kmat_at < 0 && !memcmp(rec.type, "KMAT", 4)) kmat_at = rec.index;
         /* the simulation starts on the original mesh, before the first step's records */
         if (!ss.started && aug_rec_changes_step(&rec))
             start(&t, &o, &rp, &ss, &rec);
@@ -433,6 +435,8 @@ int main(int argc, char **argv)
         }
     }
     aug_tool_check(&t, aug_replay_end(&rp, &e), &e);
+    if (kmat_at >= 0 && !rp.have_dofm)
+        aug_tool_die(&t, "%s: record %ld (KMAT): no DOFM gives the free DOFs it is over", t.inname, kmat_at);
     /* nothing to simulate: no frame would be written (modal(1): a stream
        without cut steps needs --lead or --settle) */
     if (!ss.started && o.lead == 0 && o.settle == 0 && o.lma == 0)

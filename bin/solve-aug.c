@@ -206,7 +206,7 @@ static void start(aug_tool *t, options *o, aug_replay *rp, aug_sys0 *sys, dyn *d
 {
     aug_err e;
     if (!sys->solver) {
-        aug_tool_check(t, aug_sys0_solver(sys, rp->started ? rp->nfree0 : -1, &o->so, rec, &e), &e);
+        aug_tool_check(t, aug_sys0_solver(sys, rp->have_dofm ? rp->nfree0 : -1, &o->so, rec, &e), &e);
         *full_ms = aug_solver_full_solve_ms(sys->solver, 5);
         /* after the base's own arrays, before the first step's */
         if (o->prefault && (o->pf_ms = aug_prefault((size_t)o->prefault << 20)) < 0)
@@ -441,6 +441,9 @@ int main(int argc, char **argv)
     if (!sys.K0 && !sys.A0)
         aug_tool_die(&t, "%s: no KMAT record: solve-aug needs a factored stream (meshload | factor | ...)",
                      t.inname);
+    if (!rp.have_dofm)
+        aug_tool_die(&t, "%s: record %ld (KMAT): no DOFM gives the free DOFs it is over", t.inname,
+                     sys.K0 ? sys.k_index : sys.a_index);
     if (sys.dynamic && o.settle > 0) {
         start(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
         frames(&t, &o, &rp, &sys, &dy, rp.last_step, o.settle, full_ms, &rec, o.no_reactions ? NULL : &rs);

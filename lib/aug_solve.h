@@ -112,6 +112,9 @@ double aug_cutmat_fnorm(const aug_cutmat *m);
 double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r);
 /* The same against a right-hand side b (NULL: f_t). */
 double aug_cutmat_residual_b(aug_cutmat *m, const double *x, const double *b, double *r);
+/* The same over the rows that are not unit rows (aug_cutmat_unit), both
+   norms: the relres of a dynamic frame (formats/stream.md 7.9). */
+double aug_cutmat_residual_free(aug_cutmat *m, const double *x, const double *b, double *r);
 /* K_t as a CHOLMOD matrix, upper triangle (stype 1), sorted; exact zeros of
    changed entries are dropped. pad extra identity columns are appended. */
 cholmod_sparse *aug_cutmat_sparse(const aug_cutmat *m, int64_t pad, cholmod_common *cm);
@@ -509,10 +512,14 @@ int aug_pcg(const cholmod_sparse *K, const double *f, double *x, double tol, int
    used. AUG_PCG_IC_AMD: IC(0) of P'KP, P the AMD ordering of K's pattern
    (ichol_amd.c), M = P R'R P'. *prec_ms (may be NULL): the wall-clock time
    of building M (the IC(0) factorization with its shifts and ordering; 0
-   for none and Jacobi). Returns iterations, -1 out of memory or no IC(0)
-   exists. */
+   for none and Jacobi). unit (may be NULL): unit[i] != 0 (i < nunit) marks
+   a row and column of K that are e_i (a constrained DOF, aug_cutmat_unit):
+   x_i := f_i at the start, and the tolerance, relres and convergence are of
+   the other rows alone (||f|| over them). Returns iterations, -1 out of
+   memory or no IC(0) exists. */
 enum { AUG_PCG_NONE, AUG_PCG_JACOBI, AUG_PCG_IC, AUG_PCG_IC_AMD };
-int aug_pcg_prec(const cholmod_sparse *K, const double *f, double *x, int prec, double tol,
+int aug_pcg_prec(const cholmod_sparse *K, const double *f, const unsigned char *unit, int64_t nunit,
+                 double *x, int prec, double tol,
                  int maxit, int *converged, int *breakdown, double *relres, double *shift,
                  double *prec_ms, cholmod_common *cm);
 

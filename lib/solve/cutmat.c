@@ -286,6 +286,20 @@ double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r)
     return aug_cutmat_residual_b(m, x, NULL, r);
 }
 
+double aug_cutmat_residual_free(aug_cutmat *m, const double *x, const double *b, double *r)
+{
+    int64_t n = m->cum.n;
+    aug_cutmat_mult(m, x, r);
+    double rr = 0, ff = 0;
+    for (int64_t i = 0; i < n; i++) {
+        r[i] = b[i] - r[i];
+        if (aug_cutmat_unit(m, i)) continue;
+        rr += r[i] * r[i];
+        ff += b[i] * b[i];
+    }
+    return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
+}
+
 double aug_cutmat_residual_b(aug_cutmat *m, const double *x, const double *b, double *r)
 {
     int64_t n = m->cum.n;

@@ -98,6 +98,8 @@ int aug_sys0_solver(aug_sys0 *s, int64_t nfree, const aug_solver_opts *o, const 
 {
     aug_err_clear(e);
     if (s->solver) return 0;
+    if (s->K0 && nfree < 0) /* formats/stream.md 6.1: the mesh's own numbering is no DOFM */
+        return aug_err_set(e, AUG_EDATA, s->k_index, "KMAT", "no DOFM gives the free DOFs it is over");
     if (!s->K0 || !s->f0 || !s->L0 || nfree < 0)
         return aug_err_set(e, AUG_EORDER, rec->index, rec->type,
                            "DOFM, KMAT (which 0), FVEC and FACT must come first");

@@ -9,6 +9,7 @@ usage: craft.py KIND IN [IN2] > OUT
   fact-from IN2  IN with its FACT replaced by IN2's (a factor of another K)
   kmat-from IN2  IN with its KMAT replaced by IN2's (of another order when
                  IN2 has other constraints)
+  dofm-drop      every DOFM removed (KMAT, FVEC and FACT with no numbering to be over)
   fvec-nan       the first FVEC's entry 0 = NaN
   mdlt-nan       the first MDLT's first new node x = NaN
   mdlt-huge      the first MDLT's first new node x = 1e150 (finite, beyond 1e30)
@@ -147,6 +148,8 @@ def main():
         t = kind[:4].upper()
         other = records(open(sys.argv[3], "rb").read())
         recs[first(recs, t)] = other[first(other, t)]
+    elif kind == "dofm-drop":
+        recs = [r for r in recs if r[0] != "DOFM"]
     elif kind == "fvec-nan":
         i = first(recs, "FVEC")
         p = bytearray(recs[i][3])

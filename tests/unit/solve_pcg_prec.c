@@ -40,7 +40,7 @@ static void t_exact(void)
     cholmod_sparse *K = sparse_upper(A, n);
     int conv, brk;
     double rr, sh;
-    int it = aug_pcg_prec(K, f, x, AUG_PCG_IC, 1e-12, 100, &conv, &brk, &rr, &sh, NULL, &cm);
+    int it = aug_pcg_prec(K, f, NULL, 0, x, AUG_PCG_IC, 1e-12, 100, &conv, &brk, &rr, &sh, NULL, &cm);
     T_CHECK(it == 1 && conv && sh == 0, "iterations %d, converged %d, shift %g", it, conv, sh);
     cholmod_free_sparse(&K, &cm);
     free(A), free(f), free(x);
@@ -57,7 +57,7 @@ static void t_kershaw(void)
     aug_ichol_free(&R);
     int conv, brk;
     double rr, sh;
-    aug_pcg_prec(K, f, x, AUG_PCG_IC, 1e-12, 100, &conv, &brk, &rr, &sh, NULL, &cm);
+    aug_pcg_prec(K, f, NULL, 0, x, AUG_PCG_IC, 1e-12, 100, &conv, &brk, &rr, &sh, NULL, &cm);
     double ref[4] = {1, 2, 3, 4};
     LAPACKE_dposv(LAPACK_COL_MAJOR, 'U', 4, 1, A, 4, ref, 4);
     double d = 0;
@@ -97,7 +97,7 @@ static void t_square(void)
         int conv, brk;
         double rr, sh;
         memset(x, 0, n * sizeof *x);
-        its[p] = aug_pcg_prec(K, f, x, p, 1e-12, 10000, &conv, &brk, &rr, &sh, NULL, &cm);
+        its[p] = aug_pcg_prec(K, f, NULL, 0, x, p, 1e-12, 10000, &conv, &brk, &rr, &sh, NULL, &cm);
         double d = 0, un = 0;
         for (int64_t i = 0; i < n; i++) d += (x[i] - u[i]) * (x[i] - u[i]), un += u[i] * u[i];
         T_CHECK(conv && rr <= 1e-12 && sqrt(d / un) <= 1e-8, "prec %d: converged %d, relres %g, error %g", p, conv,
@@ -154,7 +154,7 @@ static void t_amd_tree(void)
     for (int i = 0; i < n; i++) f[i] = cos(i);
     int conv, brk;
     double rr, sh;
-    int it = aug_pcg_prec(K, f, x, AUG_PCG_IC_AMD, 1e-12, 100, &conv, &brk, &rr, &sh, NULL, &cm);
+    int it = aug_pcg_prec(K, f, NULL, 0, x, AUG_PCG_IC_AMD, 1e-12, 100, &conv, &brk, &rr, &sh, NULL, &cm);
     T_CHECK(it == 1 && conv, "IC(0) on AMD: %d iterations, converged %d", it, conv);
     aug_ichol_free(&R0), aug_ichol_free(&R);
     cholmod_free_sparse(&K, &cm);
