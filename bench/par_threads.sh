@@ -3,7 +3,8 @@
 # single- against 32-core update rates on its 50,737-node brain): the organs
 # of ../shared/meshes (SCENES, default brain liver sphere3: brain + CSF 23.8k
 # nodes, liver 4.3k, sphere3 4.6k, the materials and oblique planes of
-# bench/organs.sh), 64 one-node steps, solve-aug --method amps --time-full
+# bench/organs.sh, advancing from the top as there: every step changes K),
+# 64 one-node steps, solve-aug --method amps --time-full
 # with --threads 1 and --threads 2 in alternation, ROUNDS times (default 2),
 # so both see the same machine load. With --threads 2 the full-field
 # back-substitution over L' runs on two cores (lib/solve/par_*.c) and so do
@@ -46,7 +47,7 @@ scene() {
     plane=$(awk -v a=$x0 -v b=$y0 -v c=$z0 -v d=$x1 -v e=$y1 -v f=$z1 \
         'BEGIN { nx = 0.8; ny = 0.5; nz = 0.33; printf "%g,%g,%g,%g", nx, ny, nz, nx * (a + d) / 2 + ny * (b + e) / 2 + nz * (c + f) / 2 }')
     $B/meshload "$msh" --fix $fix --gravity 0,0,-9.81 "$@" | $B/factor --no-cond |
-        $B/cut --plane $plane --per-step 1 --steps $STEPS --pull 0.01 --detached drop > $T/c.aug ||
+        $B/cut --plane $plane --advance 0,0,-1 --per-step 1 --steps $STEPS --pull 0.01 --detached drop > $T/c.aug ||
         { echo "par_threads.sh: $name pipeline failed" >&2; status=1; return 0; }
     files=""
     r=1
