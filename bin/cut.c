@@ -147,21 +147,22 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
     o->policy = AUG_DETACH_AUTO;
     o->snap_tol = 0.05;
     o->seed = 1;
-    int nsteps = 0;
+    int nsteps = 0, g_per = 0, g_seed = 0;
+    o->adv[0] = o->adv[1] = o->adv[2] = NAN; /* unread (--advance nan: its own error only) */
     const aug_opt opt[] = {
         {AUG_OPT_CALL("--plane", plane, o, "nx,ny,nz,d or random"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_REALS("--advance", o->adv, 3, "dx,dy,dz"), .given = &o->have_adv},
         {AUG_OPT_CALL("--polygon", polygon, o, "3 to 64 points x,y,z,x,y,z,..."), .flags = AUG_OPT_ONCE},
         {AUG_OPT_INT("--steps", &o->steps, 1, 1000000, "a count from 1 to 1000000"), .given = &nsteps},
-        {AUG_OPT_INT("--per-step", &o->per_step, 1, LONG_MAX, "a count >= 1")},
-        {AUG_OPT_INT("--seed", &o->seed, 0, LONG_MAX, "an integer >= 0")},
+        {AUG_OPT_INT("--per-step", &o->per_step, 1, LONG_MAX, "a count >= 1"), .given = &g_per},
+        {AUG_OPT_INT("--seed", &o->seed, 0, LONG_MAX, "an integer >= 0"), .given = &g_seed},
         {AUG_OPT_REAL("--pull", &o->pull, -1e12, 1e12, "a force of at most 1e12 in magnitude")},
         {AUG_OPT_REAL("--snap-tol", &o->snap_tol, 0, 0.5, "a number in [0, 0.5)"), .flags = AUG_OPT_HI_OPEN,
          .given = &o->tol_given},
         {AUG_OPT_CHOICE("--mode", &o->mode, modes, "split or snap"), .given = &o->mode_given},
         {AUG_OPT_CHOICE("--detached", &o->policy, policies, "auto, error, pin, drop or keep")},
-        {AUG_OPT_CALL("--constrain", constrain, o, "SET or box:LO,HI, optionally =u,v[,w] and @STEP")},
-        {AUG_OPT_CALL("--drag", constrain, o, "SET:dx,dy,dz or box:LO,HI:dx,dy,dz (finite numbers)")},
+        {AUG_OPT_CALL("--constrain", constrain, o, "SET or box:LO,HI, optionally =u,v[,w] (each at most 1e30 in magnitude) and @STEP")},
+        {AUG_OPT_CALL("--drag", constrain, o, "SET:dx,dy,dz or box:LO,HI:dx,dy,dz (each at most 1e30 in magnitude)")},
         {AUG_OPT_STRING("--path", &o->pathfile, "a file"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_STRING("--blade", &o->bladefile, "a file"), .flags = AUG_OPT_ONCE},
         {AUG_OPT_STRING("--surface", &o->surffile, "a file"), .flags = AUG_OPT_ONCE},
@@ -182,6 +183,22 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
             aug_tool_usage(t, "--constrain at step %ld after the last step %ld", o->con[i].step, o->steps);
     if (o->have_adv && !(o->adv[0] != 0 || o->adv[1] != 0 || o->adv[2] != 0))
         aug_tool_usage(t, "--advance: the zero vector has no direction");
+    /* an option of another kind of cut is an error, not ignored (the
+       synopsis: --plane takes --advance, --polygon, --per-step, --seed;
+       --path --mode, --snap-tol, --chords, --view; --blade and --surface
+       --mode, --snap-tol, --surface also --advance) */
+    const char *kind = o->plane ? "--plane" : o->pathfile ? "--path" : o->bladefile ? "--blade"
+                     : o->surffile ? "--surface" : "a deformation-only step (--constrain/--drag alone)";
+    int pl = !!o->plane, pa = !!o->pathfile, sf = o->bladefile || o->surffile;
+    const struct { const char *name; int given, ok; } fit[] = {
+        {"--advance", o->have_adv, pl || o->surffile}, {"--polygon", o->npoly > 0, pl},
+        {"--per-step", g_per, pl}, {"--seed", g_seed, pl},
+        {"--mode", o->mode_given, pa || sf}, {"--snap-tol", o->tol_given, pa || sf},
+        {"--chords", o->chords, pa},
+    };
+    /* (after the options' own errors: a bad value is its option's one error) */
+    for (size_t i = 0; ncut <= 1 && !t->usage_errors && i < sizeof fit / sizeof *fit; i++)
+        if (fit[i].given && !fit[i].ok) aug_tool_usage(t, "%s does not apply to %s", fit[i].name, kind);
     aug_err ve;
     if (o->have_view && !o->pathfile) aug_tool_usage(t, "--view needs --path");
     if (o->have_view && o->pull != 0) aug_tool_usage(t, "--view takes no --pull");

@@ -413,8 +413,10 @@ int main(int argc, char **argv)
     long kmat_at = -1; /* the first KMAT: it needs a DOFM (formats/stream.md 6.1) */
     while (aug_tool_read(&t, &rec)) {
         if (kmat_at < 0 && !memcmp(rec.type, "KMAT", 4)) kmat_at = rec.index;
-        /* the simulation starts on the original mesh, before the first step's records */
-        if (!ss.started && aug_rec_changes_step(&rec))
+        /* the simulation starts on the original mesh, before the first step's
+           records, and before a pLAN: the step-0 records of --lead and --lma
+           after it would lie outside the steps it plans (formats/stream.md 4.4) */
+        if (!ss.started && (aug_rec_changes_step(&rec) || !memcmp(rec.type, "pLAN", 4)))
             start(&t, &o, &rp, &ss, &rec);
         aug_tool_check(&t, aug_replay_add(&rp, &rec, &e), &e);
         if (!o.fe_cholmod) aug_tool_check(&t, aug_sys0_add(&ss.sys, &rec, &e), &e);

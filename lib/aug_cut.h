@@ -355,6 +355,10 @@ typedef struct aug_path {
     double *tab;                 /* per curve: arc length at AUG_PATH_NS+1 equal parameter steps */
 } aug_path;
 #define AUG_PATH_NS 256
+/* the largest ratio of a rational curve's weights (arc: w and 1/w; the
+   sweep of 2026-12-08: at w = 4e5 an arc's second leg was not cut, at
+   w = 1e-5 nothing was; 1e-4 and 1e4 cut both legs as the polyline) */
+#define AUG_PATH_WRATIO 1e4
 /* Parse a path file (format in man/cut.1); errors name the line. */
 int aug_path_parse(FILE *f, const char *name, aug_path *p, aug_err *e);
 void aug_path_free(aug_path *p);

@@ -1,6 +1,7 @@
 /* cut's --constrain and --drag specs: a set or a box, to 0 or to given values at
    one step, or pulled along a vector over the steps. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,11 +32,16 @@ static int start(const char *s, char buf[512], aug_constraint *c)
     return 0;
 }
 
-/* c's values = the 2 or 3 numbers after sep, which ends the text before: 0 or -1 */
+/* c's values = the 2 or 3 numbers after sep, which ends the text before,
+   each at most 1e30 in magnitude (a displacement is a length, as a
+   coordinate, formats/stream.md 5.1, 7.7; --drag 1e200 was taken and every
+   solver then called K_t singular, its norms overflowing): 0 or -1 */
 static int values(char *sep, aug_constraint *c)
 {
     *sep = 0;
     c->nv = aug_parse_reals(sep + 1, c->v, 3);
+    for (int i = 0; i < c->nv && i < 3; i++)
+        if (!(fabs(c->v[i]) <= 1e30)) return -1;
     return c->nv < 2 ? -1 : 0;
 }
 

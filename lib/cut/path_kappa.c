@@ -43,8 +43,11 @@ static double slope(const aug_curve *c, double t)
    would give t to the square root of rounding only), golden section on kappa
    when the slope does not change sign (a cusp). Interior (1) when that is not
    an end and kappa there exceeds kappa at both ends by a relative 1e-9 (so a
-   circle or a line, of constant kappa, has no such point); 0 and *tk = t0
-   otherwise. */
+   circle or a line, of constant kappa, has no such point) and kappa times
+   the extent of B on [t0, t1] exceeds 1e-9 (a straight curve of higher
+   degree, collinear control points, has a kappa of rounding, 1e-16, whose
+   noise made maxima: 64 extra path vertices on a cubic of the square, the
+   nodes snapped to them 5.4e-4 off the line); 0 and *tk = t0 otherwise. */
 int aug_curve_kappa_max(const aug_curve *c, double t0, double t1, double *tk)
 {
     *tk = t0;
@@ -53,15 +56,17 @@ int aug_curve_kappa_max(const aug_curve *c, double t0, double t1, double *tk)
     int n = c->kind == AUG_CURVE_BEZIER ? c->deg : (c->kind == AUG_CURVE_CUBIC ? 3 : 2);
     int ns = 16 * (n + 1) < 64 ? 64 : 16 * (n + 1);
     int ib = 0;
-    double kb = -1;
+    double kb = -1, lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int i = 0; i <= ns; i++) {
-        double k = kap(c, t0 + span * i / ns);
+        double k = kap(c, t0 + span * i / ns), xy[2];
+        aug_curve_eval(c, t0 + span * i / ns, xy);
+        for (int d = 0; d < 2; d++) lo[d] = fmin(lo[d], xy[d]), hi[d] = fmax(hi[d], xy[d]);
         if (k > kb) {
             kb = k;
             ib = i;
         }
     }
-    if (ib == 0 || ib == ns) return 0;
+    if (ib == 0 || ib == ns || !(kb * hypot(hi[0] - lo[0], hi[1] - lo[1]) > 1e-9)) return 0;
     double a = t0 + span * (ib - 1) / ns, b = t0 + span * (ib + 1) / ns, t;
     if (slope(c, a) > 0 && slope(c, b) < 0) {
         for (int it = 0; it < 200; it++) {

@@ -148,8 +148,14 @@ int aug_path_parse(FILE *f, const char *name, aug_path *p, aug_err *e)
             if (nv % st || n < 1 || n > AUG_CURVE_MAXDEG)
                 FAIL("'%s' takes %s of n+1 control points, degree 1 <= n <= %d", kw,
                      st == 3 ? "x y w triples" : "x y pairs", AUG_CURVE_MAXDEG);
-            for (int i = 0; st == 3 && i <= n; i++)
+            double wlo = INFINITY, whi = 0;
+            for (int i = 0; st == 3 && i <= n; i++) {
                 if (!(v[3 * i + 2] > 0)) FAIL("weight %d of the rbezier is not positive", i);
+                wlo = fmin(wlo, v[3 * i + 2]), whi = fmax(whi, v[3 * i + 2]);
+            }
+            if (st == 3 && !(whi <= AUG_PATH_WRATIO * wlo))
+                FAIL("the rbezier's weights span %g to %g, more than a factor 1e4: the curve turns "
+                     "within a sliver of its parameter, finer than the path is walked (a corner: polyline)", wlo, whi);
             if (general(&c, v, n, st)) goto nomem;
             if (degenerate(&c)) {
                 free(c.h);
@@ -162,6 +168,9 @@ int aug_path_parse(FILE *f, const char *name, aug_path *p, aug_err *e)
         } else if (strcmp(kw, "arc") == 0) {
             if (nv != 7) FAIL("'arc' takes 7 numbers: x0 y0 x1 y1 x2 y2 w");
             if (!(v[6] > 0)) FAIL("the arc weight must be positive");
+            if (!(v[6] >= 1 / AUG_PATH_WRATIO && v[6] <= AUG_PATH_WRATIO))
+                FAIL("the arc weight %g is outside 1e-4..1e4: the curve turns within a sliver of its "
+                     "parameter, finer than the path is walked (a corner: polyline)", v[6]);
             c.kind = AUG_CURVE_RQUAD;
             memcpy(c.p, v, 6 * sizeof *v);
             c.w = v[6];

@@ -223,6 +223,9 @@ static int read_list(aug_cur *c, const aug_rec *rec, int64_t *n, int32_t **d, do
                                "%s dofs not strictly increasing at %lld", what, (long long)i);
         if (!((*v)[i] - (*v)[i] == 0))
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "%s value not finite", what);
+        if (!strcmp(what, "constraint") && !(fabs((*v)[i]) <= 1e30))
+            return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
+                               "constraint value %.3g beyond 1e30 (a displacement, 5.1)", (*v)[i]);
     }
     return 0;
 }

@@ -175,10 +175,21 @@ int aug_mesh_apply(aug_mesh *m, const aug_mdelta *d, aug_err *e)
         m->ne += d->nadd;
     }
     if (inherit(m, nn0, d)) goto nomem;
-    /* a re-wired or added element must keep a positive measure (the mesh is
-       not to be used after this error) */
+    /* a re-wired or added element must keep a positive measure, a hex8 a
+       positive scaled Jacobian at every corner as in ELEM (formats/stream.md
+       5.3, 7.1: two nodes of a hex exchanged make a bow-tie whose volume
+       may stay positive); the mesh is not to be used after this error */
     for (int64_t i = 0; i < d->nmod + d->nadd; i++) {
         int64_t el = i < d->nmod ? d->elem[i] : m->ne - d->nadd + (i - d->nmod);
+        if (m->nv == 8) {
+            int corner;
+            double sj = aug_hex_scaled_jacobian(m, el, &corner);
+            if (!(sj > 0))
+                return aug_err_set(e, AUG_EDATA, -1, "MDLT", "step %d: element %lld is inverted or "
+                                   "degenerate after the step (scaled Jacobian %.3g at corner %d)",
+                                   (int)d->step, (long long)el, sj, corner);
+            continue;
+        }
         double v = aug_elem_measure(m, el);
         if (!(v > 0))
             return aug_err_set(e, AUG_EDATA, -1, "MDLT", "step %d: element %lld is inverted or "

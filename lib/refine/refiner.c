@@ -165,7 +165,11 @@ static int32_t *scores(const aug_mesh *m)
    boundary is fixed), at their mean value (exact for a midpoint under a
    linear or uniform prescribed motion), in node order (its makers come
    first). The state before the step is the base's FIXD, a node new in this
-   step inheriting its parent's (formats/stream.md 7.1). */
+   step inheriting its parent's (formats/stream.md 7.1). A node made at an
+   earlier step and constrained then follows its makers when this step
+   prescribes one of them anew (a second --constrain of the set with
+   another value, --drag): the square's right edge moved from (0.01, 0) to
+   (0.05, 0.02) at step 3 left two midpoints refined at step 1 at (0.01, 0). */
 static int fix_inserted(const aug_refiner *r, aug_bdelta *out, aug_err *e)
 {
     const aug_work *W = &r->work;
@@ -180,29 +184,35 @@ static int fix_inserted(const aug_refiner *r, aug_bdelta *out, aug_err *e)
             v[j * dim + c] = j < nb ? (aug_mesh_fixed(&r->base, (int32_t)(j * dim + c), &x) ? x : NAN)
                                     : (p >= 0 && p < j ? v[(int64_t)p * dim + c] : NAN);
         }
+    unsigned char *chg = aug_calloc((size_t)(nn * dim + 1), 1); /* prescribed by this step */
+    if (!chg) {
+        free(v);
+        return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
+    }
     for (int64_t i = 0; i < out->nfix; i++)
-        if (out->fix_dof[i] >= 0 && out->fix_dof[i] < nn * dim) v[out->fix_dof[i]] = out->fix_val[i];
+        if (out->fix_dof[i] >= 0 && out->fix_dof[i] < nn * dim) v[out->fix_dof[i]] = out->fix_val[i], chg[out->fix_dof[i]] = 1;
     int rc = 0;
     for (int64_t j = 0; j < nn && !rc; j++) {
         const int32_t *cr = W->cre + j * 4;
         if (cr[0] < 0) continue;
         for (int c = 0; c < dim && !rc; c++) {
-            if (!isnan(v[j * dim + c])) continue;
+            int64_t dj = j * dim + c;
             double sum = 0;
-            int k = 0;
+            int k = 0, moved = 0;
             for (; k < 4 && cr[k] >= 0; k++) {
                 double y = v[(int64_t)cr[k] * dim + c];
                 if (isnan(y)) break;
                 sum += y;
+                moved |= chg[(int64_t)cr[k] * dim + c];
             }
-            if (k == 4 || cr[k] < 0) {
-                v[j * dim + c] = sum / k;
-                if (aug_bdelta_fix(out, (int32_t)(j * dim + c), sum / k))
-                    rc = aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
-            }
+            if ((k < 4 && cr[k] >= 0) || (!isnan(v[dj]) && (!moved || v[dj] == sum / k))) continue;
+            v[dj] = sum / k, chg[dj] = 1;
+            if (aug_bdelta_fix(out, (int32_t)dj, sum / k))
+                rc = aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
         }
     }
     free(v);
+    free(chg);
     return rc;
 }
 

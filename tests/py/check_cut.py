@@ -473,6 +473,12 @@ class Checker:
             self.fail("the path's part %.4g..%.4g runs %.3g deep inside the mesh, but pATH is empty" % (s0, s1, run))
 
     def path_step(self, d, pairs_before, seg, fm):
+        def on_segment(a, b, q, tol):
+            ab = [bi - ai for ai, bi in zip(a, b)]
+            L2 = sum(c * c for c in ab)
+            t = sum((qi - ai) * c for ai, qi, c in zip(a, q, ab)) / L2 if L2 > 0 else 0.0
+            t = min(1.0, max(0.0, t))
+            return math.dist(q, [ai + t * c for ai, c in zip(a, ab)]) <= tol
         """copies on the cut, inserted nodes on its segments, every node on the
         cut separated into one node per class of its star"""
         x = self.cm.x
@@ -492,7 +498,22 @@ class Checker:
                 continue
             if stepidx.find([x[v]]) < 0:
                 self.fail("inserted node %d at %s lies on no pATH segment of the step" % (v, x[v]))
-            near = {self.origin[w] for u in at[x[v]] for e in node_elems.get(u, ()) for w in self.cm.conn[e]}
+            # formats 7.1: the parent is an end (corner) of the edge (triangle)
+            # the split cut; an edge the step split twice (a path crossing it
+            # twice) leaves the other split node between the first and that
+            # end: the walk goes on through the step's inserted nodes on the
+            # segment from v to its parent
+            seen, todo, near = {v}, [v], set()
+            while todo:
+                u0 = todo.pop()
+                for u in at[x[u0]]:
+                    for e in node_elems.get(u, ()):
+                        for w in self.cm.conn[e]:
+                            near.add(self.origin[w])
+                            if w >= nn0 and w not in seen and x[w] != x[d["parent"][w - nn0]] \
+                                    and on_segment(x[v], x[p], x[w], self.tol):
+                                seen.add(w)
+                                todo.append(w)
             if self.origin[p] not in near:
                 self.fail("inserted node %d: its parent %d is no corner next to it" % (v, p))
 

@@ -14,6 +14,7 @@ usage: craft.py KIND IN [IN2] > OUT
   mdlt-nan       the first MDLT's first new node x = NaN
   mdlt-huge      the first MDLT's first new node x = 1e150 (finite, beyond 1e30)
   node-huge      NODE's node 1 y = -1e150
+  bdlt-huge      the first BDLT's first constraint value = 1e200 (finite, beyond 1e30)
   mdlt-flags     the first MDLT's flags = 0x40
   mdlt-noflags   every MDLT's flags = 0 (a detached step no longer says so)
   mdlt-invert    the first MDLT's first changed element with two nodes swapped
@@ -166,6 +167,13 @@ def main():
         p = bytearray(recs[i][3])
         nnew = struct.unpack_from("<q", p, 0)[0]
         struct.pack_into("<d", p, 8 + 4 * nnew, 1e150)
+        put(recs, i, p)
+    elif kind == "bdlt-huge":
+        i = first(recs, "BDLT")
+        p = bytearray(recs[i][3])
+        nfix = struct.unpack_from("<q", p, 0)[0]
+        assert nfix >= 1, "the first BDLT constrains nothing"
+        struct.pack_into("<d", p, 8 + 4 * nfix, 1e200)
         put(recs, i, p)
     elif kind == "node-huge":
         i = first(recs, "NODE")
