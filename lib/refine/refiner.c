@@ -190,7 +190,8 @@ static int fix_inserted(const aug_refiner *r, aug_bdelta *out, aug_err *e)
         return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
     }
     for (int64_t i = 0; i < out->nfix; i++)
-        if (out->fix_dof[i] >= 0 && out->fix_dof[i] < nn * dim) v[out->fix_dof[i]] = out->fix_val[i], chg[out->fix_dof[i]] = 1;
+        if (out->fix_dof[i] >= 0 && out->fix_dof[i] < nn * dim)
+            v[out->fix_dof[i]] = out->fix_val[i], chg[out->fix_dof[i]] = 1;
     int rc = 0;
     for (int64_t j = 0; j < nn && !rc; j++) {
         const int32_t *cr = W->cre + j * 4;

@@ -616,8 +616,8 @@ static int pcg_step(aug_solver *s, const step_req *q, step_res *r, aug_err *e)
     for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0;
     s->pcg_n = n;
     double rr, tic;
-    r->iters = aug_pcg_prec(K, s->f, NULL, 0, xp, s->o.pcg_prec, s->o.tol, s->o.maxit, &r->conv, &r->sing, &rr,
-                            &s->pcg_shift, &tic, s->cm);
+    r->iters = aug_pcg_prec(K, s->f, NULL, 0, xp, s->o.pcg_prec, s->o.tol, s->o.maxit, &r->conv, &r->sing,
+                            &rr, &s->pcg_shift, &tic, s->cm);
     cholmod_free_sparse(&K, s->cm);
     if (r->iters < 0) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "pcg: out of memory or no IC(0)");
     memcpy(r->x, xp, (size_t)n * sizeof *r->x);
@@ -1192,8 +1192,8 @@ static int frame_method(aug_solver *s, int m, const double *b, int32_t frame, au
         for (int64_t i = s->pcg_n; i < n; i++) xp[i] = 0;
         s->pcg_n = n;
         double tic;
-        iters = aug_pcg_prec(s->pcg_K, b, s->cut.unit, s->cut.unitcap, xp, s->o.pcg_prec, s->o.tol, s->o.maxit, &conv, &sing, &rr,
-                             &s->pcg_shift, &tic, s->cm);
+        iters = aug_pcg_prec(s->pcg_K, b, s->cut.unit, s->cut.unitcap, xp, s->o.pcg_prec, s->o.tol,
+                             s->o.maxit, &conv, &sing, &rr, &s->pcg_shift, &tic, s->cm);
         if (iters < 0) return aug_err_set(e, AUG_ENOMEM, -1, "fRAM", "pcg: out of memory or no IC(0)");
         memcpy(x, xp, (size_t)n * sizeof *x);
         if (s->o.pcg_prec == AUG_PCG_IC || s->o.pcg_prec == AUG_PCG_IC_AMD) put(tm, "ic_factor", tic);
