@@ -259,8 +259,10 @@ void aug_memo_free(aug_memo *M);
 int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_common *cm,
                    aug_err *e);
 /* Trapezoidal augmentation of G for the columns added by aug_memo_reach
-   (eq. 3.27): G[i,j] = V_i' D^-1 V_j, summed over the common etree suffix. */
-int aug_memo_grow(aug_memo *M, const aug_base *b, aug_err *e);
+   (eq. 3.27): G[i,j] = V_i' D^-1 V_j, summed over the common etree suffix;
+   on the pool par when not NULL (the same bits as without). */
+struct aug_par;
+int aug_memo_grow(aug_memo *M, const aug_base *b, struct aug_par *par, aug_err *e);
 
 /* S2 of eq. 3.21 on the active positions A of S (Ebar column nonzero: the
    Dirichlet/load-only positions drop out, sec. 3.4), LU-factored by LAPACK

@@ -674,7 +674,7 @@ int aug_amps_prepare(aug_amps *a, const aug_base *b, const aug_cum *c, double rc
     a->memo.all = a->field_memo; /* its V w needs every column */
     int rc = aug_memo_reach(&a->memo, b, c, cm, e);
     double t1 = now_ms();
-    if (!rc) rc = aug_memo_grow(&a->memo, b, e);
+    if (!rc) rc = aug_memo_grow(&a->memo, b, a->par, e);
     double t2 = now_ms();
     if (!rc) rc = aug_schur_factor(&a->schur, &a->memo, c, rcond_min, e);
     times[0] = t1 - t0, times[1] = t2 - t1, times[2] = now_ms() - t2;

@@ -123,7 +123,7 @@ static void catch_up(aug_bg *bg)
             bg->applied++;
         }
         if (aug_memo_reach(&bg->am.memo, bg->base, &bg->cum, &bg->cm, &e) ||
-            aug_memo_grow(&bg->am.memo, bg->base, &e))
+            aug_memo_grow(&bg->am.memo, bg->base, NULL, &e))
             goto fail;
     }
     free(batch);

@@ -375,6 +375,75 @@ static void deferred_rest(void)
     fix_close(&f);
 }
 
+/* the memo H'K^-1H (amps_memo.c) grown on the pool equals the serial one
+   bit for bit, over two steps (60, then 90 more positions of S: passes of
+   32 with a tail, the second step's new columns against the first's), and
+   is H'K^-1H: its columns within 1e-12 of cholmod_solve2 CHOLMOD_A */
+static void memo_pool_bitwise(void)
+{
+    fixture f = {0};
+    double *b;
+    aug_base *base;
+    aug_par *p;
+    if (base_open(&f, &b, &base, &p)) return;
+    int64_t n = base->n;
+    aug_err e = {0};
+    aug_cum c;
+    aug_memo M[2];
+    T_CHECK(aug_cum_init(&c, n, &e) == 0, "cum");
+    aug_memo_init(&M[0]), aug_memo_init(&M[1]);
+    M[0].all = M[1].all = 1;
+    unsigned char *used = calloc((size_t)n, 1);
+    static const int32_t mstep[2] = {60, 90};
+    for (int st = 0; st < 2; st++) {
+        int32_t m = mstep[st];
+        aug_update u = {st + 1, m, 0, malloc((size_t)m * sizeof(int32_t)), calloc((size_t)m * m, sizeof(double)),
+                        calloc((size_t)m, sizeof(double)), NULL, NULL, NULL};
+        for (int32_t i = 0; i < m; i++) {
+            int32_t q;
+            do q = (int32_t)gsl_rng_uniform_int(f.r, (unsigned long)n);
+            while (used[q]);
+            used[q] = 1, u.H[i] = q, u.E[i + (size_t)i * m] = 1e-3;
+        }
+        T_CHECK(aug_cum_apply(&c, &u, &e) == 0, "step %d: %s", st + 1, e.msg);
+        free(u.H), free(u.E), free(u.df);
+        for (int k = 0; k < 2; k++) {
+            T_CHECK(aug_memo_reach(&M[k], base, &c, &cm, &e) == 0, "reach: %s", e.msg);
+            T_CHECK(aug_memo_grow(&M[k], base, k ? p : NULL, &e) == 0, "grow: %s", e.msg);
+        }
+        int64_t mm = M[0].m, d = 0;
+        T_CHECK(mm == M[1].m && mm == (st ? 150 : 60), "step %d: %lld and %lld columns", st + 1, (long long)mm,
+                (long long)M[1].m);
+        for (int64_t j = 0; j < mm && mm == M[1].m; j++)
+            d += ndiff(M[0].G + j * M[0].mcap, M[1].G + j * M[1].mcap, mm);
+        T_CHECK(d == 0, "step %d: %lld of %lld entries differ with the pool", st + 1, (long long)d,
+                (long long)(mm * mm));
+    }
+    /* G(:, j) = H' K^-1 e_{H_j} for a few j */
+    cholmod_dense *B = cholmod_zeros((size_t)n, 1, CHOLMOD_REAL, &cm), *X = NULL;
+    double worst = 0;
+    for (int64_t j = 0; j < M[0].m; j += 37) {
+        int32_t hj = c.S[M[0].col[j]];
+        ((double *)B->x)[hj] = 1;
+        X = cholmod_solve(CHOLMOD_A, f.L, B, &cm);
+        ((double *)B->x)[hj] = 0;
+        double mx = 0, dd = 0;
+        for (int64_t i = 0; i < M[0].m; i++) {
+            double ref = ((double *)X->x)[c.S[M[0].col[i]]];
+            mx = fmax(mx, fabs(ref)), dd = fmax(dd, fabs(ref - M[0].G[i + j * M[0].mcap]));
+        }
+        worst = fmax(worst, dd / mx);
+        cholmod_free_dense(&X, &cm);
+    }
+    T_CHECK(worst <= 1e-12, "G against H'K^-1H: %g", worst);
+    cholmod_free_dense(&B, &cm);
+    free(used);
+    aug_memo_free(&M[0]), aug_memo_free(&M[1]);
+    aug_cum_free(&c);
+    aug_base_release(base, &cm), aug_par_free(p), free(b);
+    fix_close(&f);
+}
+
 /* aug_base_new skips its etree check for a simplicial L made from a
    supernodal one (ldl_sparse.c): on CHOLMOD's relaxed supernodes of the
    grid, struct L(:,j) minus the parent lies in struct L(:,parent) for every
@@ -509,6 +578,7 @@ int main(void)
     T_RUN(solves_bitwise_blas2);
     T_RUN(full_solve_and_base);
     T_RUN(deferred_rest);
+    T_RUN(memo_pool_bitwise);
     T_RUN(super_base_closed);
     T_RUN(no_split_without_tree);
     T_RUN(closure_work_paths);
