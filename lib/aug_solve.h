@@ -255,13 +255,15 @@ typedef struct aug_memo {
 
 void aug_memo_init(aug_memo *M);
 void aug_memo_free(aug_memo *M);
-/* V columns for the base DOFs of S not yet in the memo (amps_reach.c). */
-int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_common *cm,
-                   aug_err *e);
+/* V columns for the base DOFs of S not yet in the memo (amps_reach.c); a
+   group of 8 or more in two halves on the pool par when not NULL (a column
+   then rounds as in its half's BLAS calls: equal to rounding). */
+struct aug_par;
+int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, struct aug_par *par,
+                   cholmod_common *cm, aug_err *e);
 /* Trapezoidal augmentation of G for the columns added by aug_memo_reach
    (eq. 3.27): G[i,j] = V_i' D^-1 V_j, summed over the common etree suffix;
    on the pool par when not NULL (the same bits as without). */
-struct aug_par;
 int aug_memo_grow(aug_memo *M, const aug_base *b, struct aug_par *par, aug_err *e);
 
 /* S2 of eq. 3.21 on the active positions A of S (Ebar column nonzero: the

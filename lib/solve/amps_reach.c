@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "aug_solve.h"
+#include "aug_par.h"
 
 void aug_memo_init(aug_memo *M) { memset(M, 0, sizeof *M); }
 
@@ -113,12 +114,50 @@ static int wants(const aug_memo *M, const aug_cum *c, int64_t p)
     return c->S[p] < c->nb && M->cpos[p] < 0 && (M->all || aug_cum_coupled(c, p));
 }
 
+/* a group of columns on the pool: thread t < 2 solves the group's columns
+   cut[t] .. cut[t+1]-1 through the supernodes (its own workspace) */
+typedef struct reach_job {
+    const aug_base *b;
+    const int32_t *gp;
+    int32_t *const *gpath;
+    const int64_t *glen;
+    double *const *gout;
+    int cut[3], rc[2];
+} reach_job;
+
+static void reach_worker(void *arg, int t)
+{
+    reach_job *j = arg;
+    if (t > 1) return;
+    int lo = j->cut[t], hi = j->cut[t + 1];
+    j->rc[t] = hi > lo ? aug_ldl_paths_solve_super(j->b, hi - lo, j->gp + lo, j->gpath + lo, j->glen + lo,
+                                                   j->gout + lo)
+                       : 0;
+}
+
+/* the group's columns solved at once, or, on a pool and with 8 or more, as
+   two halves of about equal path length side by side (paper 001 sec. 3.6:
+   the columns are independent; each half reads the top of L once) */
+static int solve_group(const aug_base *b, struct aug_par *par, int ng, const int32_t *gp, int32_t *const *gpath,
+                       const int64_t *glen, double *const *gout)
+{
+    if (!par || ng < 8) return aug_ldl_paths_solve_super(b, ng, gp, gpath, glen, gout);
+    int64_t tot = 0, acc = 0;
+    for (int q = 0; q < ng; q++) tot += glen[q];
+    int h = 0;
+    while (h < ng - 1 && 2 * (acc + glen[h]) <= tot) acc += glen[h++];
+    if (h == 0) h = 1;
+    reach_job j = {b, gp, gpath, glen, gout, {0, h, ng}, {0, 0}};
+    aug_par_run(par, reach_worker, &j);
+    return j.rc[0] || j.rc[1] ? -1 : 0;
+}
+
 /* V(:, new) = L^-1 P H_dt (paper 001 eqs. 3.23-3.24, table 1 step 1): a column for
    each base DOF of S not yet in the memo that wants one, over its etree path (aug_ldl_path), by
    path_solve, cholmod_column (use_cholmod), or 32 at a time through the supernodes
    (aug_ldl_paths_solve_super) when the base has Ls; vt marks each path's dense tail */
-int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_common *cm,
-                   aug_err *e)
+int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, struct aug_par *par,
+                   cholmod_common *cm, aug_err *e)
 {
     M->reach_new = 0;
     M->m_new = 0;
@@ -159,7 +198,7 @@ int aug_memo_reach(aug_memo *M, const aug_base *b, const aug_cum *c, cholmod_com
         if (!last && !wants(M, c, p)) continue;
         if (grouped && ng > 0 && (last || ng == GROUP)) {
             for (int q = 0; q < ng; q++) gpath[q] = M->vi + goff[q], gout[q] = M->vx + goff[q];
-            if (aug_ldl_paths_solve_super(b, ng, gp, gpath, glen, gout))
+            if (solve_group(b, par, ng, gp, gpath, glen, gout))
                 rc = aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory (V)");
             ng = 0;
         }

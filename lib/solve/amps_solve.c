@@ -672,7 +672,7 @@ int aug_amps_prepare(aug_amps *a, const aug_base *b, const aug_cum *c, double rc
     a->pivot_used = pivot_choice(a);
     if (scratch(a, b, c)) return aug_err_set(e, AUG_ENOMEM, -1, "UPDT", "out of memory");
     a->memo.all = a->field_memo; /* its V w needs every column */
-    int rc = aug_memo_reach(&a->memo, b, c, cm, e);
+    int rc = aug_memo_reach(&a->memo, b, c, a->par, cm, e);
     double t1 = now_ms();
     if (!rc) rc = aug_memo_grow(&a->memo, b, a->par, e);
     double t2 = now_ms();

@@ -122,7 +122,7 @@ static void catch_up(aug_bg *bg)
             if (aug_cum_apply(&bg->cum, &batch[i], &e)) goto fail;
             bg->applied++;
         }
-        if (aug_memo_reach(&bg->am.memo, bg->base, &bg->cum, &bg->cm, &e) ||
+        if (aug_memo_reach(&bg->am.memo, bg->base, &bg->cum, NULL, &bg->cm, &e) ||
             aug_memo_grow(&bg->am.memo, bg->base, NULL, &e))
             goto fail;
     }

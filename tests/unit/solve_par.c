@@ -378,7 +378,9 @@ static void deferred_rest(void)
 /* the memo H'K^-1H (amps_memo.c) grown on the pool equals the serial one
    bit for bit, over two steps (60, then 90 more positions of S: passes of
    32 with a tail, the second step's new columns against the first's), and
-   is H'K^-1H: its columns within 1e-12 of cholmod_solve2 CHOLMOD_A */
+   is H'K^-1H: its columns within 1e-12 of cholmod_solve2 CHOLMOD_A; with
+   the columns of V also solved on the pool (amps_reach.c, two halves) G is
+   the serial one to 1e-13 */
 static void memo_pool_bitwise(void)
 {
     fixture f = {0};
@@ -389,10 +391,10 @@ static void memo_pool_bitwise(void)
     int64_t n = base->n;
     aug_err e = {0};
     aug_cum c;
-    aug_memo M[2];
+    aug_memo M[3];
     T_CHECK(aug_cum_init(&c, n, &e) == 0, "cum");
-    aug_memo_init(&M[0]), aug_memo_init(&M[1]);
-    M[0].all = M[1].all = 1;
+    aug_memo_init(&M[0]), aug_memo_init(&M[1]), aug_memo_init(&M[2]);
+    M[0].all = M[1].all = M[2].all = 1;
     unsigned char *used = calloc((size_t)n, 1);
     static const int32_t mstep[2] = {60, 90};
     for (int st = 0; st < 2; st++) {
@@ -407,8 +409,8 @@ static void memo_pool_bitwise(void)
         }
         T_CHECK(aug_cum_apply(&c, &u, &e) == 0, "step %d: %s", st + 1, e.msg);
         free(u.H), free(u.E), free(u.df);
-        for (int k = 0; k < 2; k++) {
-            T_CHECK(aug_memo_reach(&M[k], base, &c, &cm, &e) == 0, "reach: %s", e.msg);
+        for (int k = 0; k < 3; k++) {
+            T_CHECK(aug_memo_reach(&M[k], base, &c, k == 2 ? p : NULL, &cm, &e) == 0, "reach: %s", e.msg);
             T_CHECK(aug_memo_grow(&M[k], base, k ? p : NULL, &e) == 0, "grow: %s", e.msg);
         }
         int64_t mm = M[0].m, d = 0;
@@ -418,6 +420,13 @@ static void memo_pool_bitwise(void)
             d += ndiff(M[0].G + j * M[0].mcap, M[1].G + j * M[1].mcap, mm);
         T_CHECK(d == 0, "step %d: %lld of %lld entries differ with the pool", st + 1, (long long)d,
                 (long long)(mm * mm));
+        double gd = 0, gm = 0;
+        for (int64_t j = 0; j < mm && mm == M[2].m; j++)
+            for (int64_t i = 0; i < mm; i++) {
+                double g0 = M[0].G[i + j * M[0].mcap], g2 = M[2].G[i + j * M[2].mcap];
+                gd = fmax(gd, fabs(g0 - g2)), gm = fmax(gm, fabs(g0));
+            }
+        T_CHECK(mm == M[2].m && gd <= 1e-13 * gm, "step %d, V on the pool: G differs by %g of %g", st + 1, gd, gm);
     }
     /* G(:, j) = H' K^-1 e_{H_j} for a few j */
     cholmod_dense *B = cholmod_zeros((size_t)n, 1, CHOLMOD_REAL, &cm), *X = NULL;
@@ -438,7 +447,7 @@ static void memo_pool_bitwise(void)
     T_CHECK(worst <= 1e-12, "G against H'K^-1H: %g", worst);
     cholmod_free_dense(&B, &cm);
     free(used);
-    aug_memo_free(&M[0]), aug_memo_free(&M[1]);
+    aug_memo_free(&M[0]), aug_memo_free(&M[1]), aug_memo_free(&M[2]);
     aug_cum_free(&c);
     aug_base_release(base, &cm), aug_par_free(p), free(b);
     fix_close(&f);
