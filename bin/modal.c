@@ -410,9 +410,7 @@ int main(int argc, char **argv)
     aug_factor_options(&ss.cm, o.ordering, 0);
     aug_replay_init(&rp);
     rp.output = o.output;
-    long kmat_at = -1; /* the first KMAT: it needs a DOFM (formats/stream.md 6.1) */
     while (aug_tool_read(&t, &rec)) {
-        if (kmat_at < 0 && !memcmp(rec.type, "KMAT", 4)) kmat_at = rec.index;
         /* the simulation starts on the original mesh, before the first step's
            records, and before a pLAN: the step-0 records of --lead and --lma
            after it would lie outside the steps it plans (formats/stream.md 4.4) */
@@ -437,8 +435,6 @@ int main(int argc, char **argv)
         }
     }
     aug_tool_check(&t, aug_replay_end(&rp, &e), &e);
-    if (kmat_at >= 0 && !rp.have_dofm)
-        aug_tool_die(&t, "%s: record %ld (KMAT): no DOFM gives the free DOFs it is over", t.inname, kmat_at);
     /* nothing to simulate: no frame would be written (modal(1): a stream
        without cut steps needs --lead or --settle) */
     if (!ss.started && o.lead == 0 && o.settle == 0 && o.lma == 0)

@@ -441,9 +441,6 @@ int main(int argc, char **argv)
     if (!sys.K0 && !sys.A0)
         aug_tool_die(&t, "%s: no KMAT record: solve-aug needs a factored stream (meshload | factor | ...)",
                      t.inname);
-    if (!rp.have_dofm)
-        aug_tool_die(&t, "%s: record %ld (KMAT): no DOFM gives the free DOFs it is over", t.inname,
-                     sys.K0 ? sys.k_index : sys.a_index);
     if (sys.dynamic && o.settle > 0) {
         start(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
         frames(&t, &o, &rp, &sys, &dy, rp.last_step, o.settle, full_ms, &rec, o.no_reactions ? NULL : &rs);

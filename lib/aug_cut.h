@@ -45,6 +45,7 @@ typedef struct aug_replay {
     long delta_index;          /* its record */
     char delta_type[5];        /* and its type */
     int have_kmat;             /* a KMAT passed: every step's deltas need an UPDT */
+    long kmat_index;           /* ... the first one's record (it needs a DOFM, 6.1) */
     int64_t kt_n;              /* order of K_t after the UPDTs so far (0: no DOFM yet) */
     int32_t plan_first, plan_last; /* the latest pLAN's steps (0: none read) */
     long plan_index;           /* ... and its record index */

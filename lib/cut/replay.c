@@ -246,8 +246,12 @@ static int plan_agrees(const aug_replay *r, const aug_rec *rec, aug_err *e)
 int aug_replay_end(const aug_replay *r, aug_err *e)
 {
     aug_err_clear(e);
-    if (r->sys_n >= 0 && !r->have_dofm)
-        return aug_err_set(e, AUG_EDATA, r->sys_index, r->sys_type, "no DOFM gives the free DOFs it is over");
+    /* formats/stream.md 6.1: KMAT, FVEC and FACT are over DOFM's free DOFs;
+       the numbering the mesh's constraints imply is none (solve-aug and
+       modal solved on it, exit 0) */
+    if (!r->have_dofm && (r->sys_n >= 0 || r->have_kmat))
+        return aug_err_set(e, AUG_EDATA, r->sys_n >= 0 ? r->sys_index : r->kmat_index,
+                           r->sys_n >= 0 ? r->sys_type : "KMAT", "no DOFM gives the free DOFs it is over");
     /* formats/stream.md 7.1: the last step's deltas need their UPDT too
        (a stream with UPDTs whose last one was dropped ends one step short) */
     if ((r->updt_step > 0 || r->have_kmat) && r->delta_lo > 0)
@@ -317,7 +321,7 @@ int aug_replay_add(aug_replay *r, const aug_rec *rec, aug_err *e)
     if (rt && rt->phase >= 2 && rt->phase <= 3 && aug_replay_start(r, e)) return e->code;
     if (aug_replay_steps(r, rec, e)) return e->code;
     if (r->check_sys && check_sys(r, rec, e)) return e->code;
-    if (!memcmp(rec->type, "KMAT", 4)) r->have_kmat = 1;
+    if (!memcmp(rec->type, "KMAT", 4) && !r->have_kmat) r->have_kmat = 1, r->kmat_index = rec->index;
     if (!memcmp(rec->type, "pLAN", 4)) return add_plan(r, rec, e);
     if (!memcmp(rec->type, "DOFM", 4)) return add_dofm(r, rec, e);
     if (!memcmp(rec->type, "MDLT", 4)) return add_mdlt(r, rec, e);

@@ -286,18 +286,25 @@ double aug_cutmat_residual(aug_cutmat *m, const double *x, double *r)
     return aug_cutmat_residual_b(m, x, NULL, r);
 }
 
-double aug_cutmat_residual_free(aug_cutmat *m, const double *x, const double *b, double *r)
+/* r = f - K_t x over every row; the norms over every row, or (free) over
+   the rows that are not unit rows (skip_unit) */
+static double residual_rows(aug_cutmat *m, const double *x, const double *f, double *r, int skip_unit)
 {
     int64_t n = m->cum.n;
     aug_cutmat_mult(m, x, r);
     double rr = 0, ff = 0;
     for (int64_t i = 0; i < n; i++) {
-        r[i] = b[i] - r[i];
-        if (aug_cutmat_unit(m, i)) continue;
+        r[i] = f[i] - r[i];
+        if (skip_unit && aug_cutmat_unit(m, i)) continue;
         rr += r[i] * r[i];
-        ff += b[i] * b[i];
+        ff += f[i] * f[i];
     }
     return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
+}
+
+double aug_cutmat_residual_free(aug_cutmat *m, const double *x, const double *b, double *r)
+{
+    return residual_rows(m, x, b, r, 1);
 }
 
 double aug_cutmat_residual_b(aug_cutmat *m, const double *x, const double *b, double *r)
@@ -309,16 +316,8 @@ double aug_cutmat_residual_b(aug_cutmat *m, const double *x, const double *b, do
         m->work = w;
         m->wcap = n;
     }
-    const double *f = b ? b : m->work;
-    aug_cutmat_mult(m, x, r);
     if (!b) aug_cutmat_rhs(m, m->work);
-    double rr = 0, ff = 0;
-    for (int64_t i = 0; i < n; i++) {
-        r[i] = f[i] - r[i];
-        rr += r[i] * r[i];
-        ff += f[i] * f[i];
-    }
-    return ff > 0 ? sqrt(rr / ff) : sqrt(rr);
+    return residual_rows(m, x, b ? b : m->work, r, 0);
 }
 
 /* ||f_t||_2 with f_t = [f0; 0] + P_S dF: ||f0||^2 with the rows of S
