@@ -202,6 +202,10 @@ typedef struct aug_refiner {
     int64_t capown;
     int32_t *corig, *borig; /* mem3: cut-view / base element -> the original triangle it lies in */
     int64_t capcorig, capborig;
+    int32_t *cre3;        /* mem3: per base node, 4 slots, as aug_work's cre (the
+                             nodes refine made it from; -1 unused, all -1 for the
+                             cut's own and the original nodes) */
+    int64_t capcre3;      /* (slots) */
     int32_t *conn0;       /* mem3: the original triangles (ne0) */
     int64_t ne0;
     int64_t nn0, nfree0;  /* original nodes and free DOFs */
@@ -247,6 +251,18 @@ int aug_refine_step(aug_refiner *r, const aug_mdelta *d, const struct aug_bdelta
    coplanar flips in each triangle's plane; seg (3-D) as for 2-D. */
 /* a[0..need) available (new entries -1): 0 or -1 (memory) */
 int aug_refine_grow_i32(int32_t **a, int64_t *cap, int64_t need);
+/* mem3: node (a base node) was made from c[0..n) (n <= 4), in r->cre3; 0 or
+   -1 (memory) */
+int aug_refine_mem3_creators(aug_refiner *r, int32_t node, const int32_t *c, int n);
+/* The constraints of the nodes refine made (refiner.c): out holds a step's
+   translated constraints on the mesh base (before the step's new nodes,
+   base->nn of them) grown to nn nodes; parent[j - pbase] is the parent of a
+   node j >= base->nn, cre its 4 creator slots (NULL past ncre nodes: none).
+   A made node whose creators are all constrained in a component after the
+   step is constrained there at their mean, and follows them when the step
+   prescribes one of them anew. 0, or AUG_ENOMEM. */
+int aug_refine_fix_made(const aug_mesh *base, int64_t nn, const int32_t *parent, int64_t pbase,
+                        const int32_t *cre, int64_t ncre, aug_bdelta *out, aug_err *e);
 int aug_refine_mem3_init(aug_refiner *r);
 int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const struct aug_bdelta *bc, const double *seg,
                          int64_t nseg, aug_mdelta *out, struct aug_bdelta *outbc, aug_update *u, aug_refine_q *q,

@@ -210,6 +210,13 @@ static int hopeless_mem3(const aug_edit *ed, const int32_t *orig, int64_t t, dou
     return 0;
 }
 
+int aug_refine_mem3_creators(aug_refiner *r, int32_t node, const int32_t *c, int n)
+{
+    if (aug_refine_grow_i32(&r->cre3, &r->capcre3, 4 * ((int64_t)node + 1))) return -1; /* (-1 filled) */
+    for (int k = 0; k < 4; k++) r->cre3[4 * (int64_t)node + k] = k < n ? c[k] : -1;
+    return 0;
+}
+
 /* the terminal edge (pa, pb) bisected (aug_split_edge): the new triangles lie in
    the originals of those they split (borig); the new node or -1 */
 static int32_t bisect_mem3(aug_refiner *r, aug_edit *ed, int32_t pa, int32_t pb, aug_err *e)
@@ -222,6 +229,10 @@ static int32_t bisect_mem3(aug_refiner *r, aug_edit *ed, int32_t pa, int32_t pb,
     int64_t na = ed->nadd;
     int32_t nr = aug_split_edge(ed, NULL, pa, pb, 0.5, e);
     if (nr < 0) return -1;
+    if (aug_refine_mem3_creators(r, nr, (int32_t[2]){pa, pb}, 2)) {
+        aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
+        return -1;
+    }
     if (aug_refine_grow_i32(&r->borig, &r->capborig, ed->ne0 + ed->nadd + 1)) {
         aug_err_set(e, AUG_ENOMEM, -1, "MDLT", "out of memory");
         return -1;
@@ -294,7 +305,7 @@ static int32_t centroid_mem3(aug_refiner *r, aug_edit *ed, int32_t a, int32_t b)
         if (sk < sp || (sk == sp && (dk < dp || (dk == dp && q4[k] < par)))) par = q4[k];
     }
     int32_t m = aug_edit_node(ed, cen, par);
-    if (m < 0) return -2;
+    if (m < 0 || aug_refine_mem3_creators(r, m, q4, 4)) return -2;
     int32_t c1[3] = {c[0], c[1], m}, c2[3] = {c[1], c[2], m}, c3[3] = {c[2], c[0], m};
     int32_t mat = aug_edit_mat(ed, t);
     if (aug_edit_set(ed, t, c1)) return -2;
@@ -525,7 +536,12 @@ int aug_refine_step_mem3(aug_refiner *r, const aug_mdelta *d, const aug_bdelta *
             rc = i < bc->nfix ? aug_bdelta_fix(outbc, dof, bc->fix_val[i])
                               : aug_bdelta_load(outbc, dof, bc->load_val[i - bc->nfix]);
         }
-        if (rc || aug_bdelta_finish(outbc)) goto nomem;
+        if (rc) goto nomem;
+        /* the nodes refine made take their creators' constraints (refiner.c) */
+        if (bc->nfix > 0 && (rc = aug_refine_fix_made(B, B->nn + out->nnew, out->parent, B->nn, r->cre3,
+                                                      r->capcre3 / 4, outbc, e)))
+            goto done;
+        if (aug_bdelta_finish(outbc)) goto nomem;
     }
     if (u && (rc = aug_update_build_bc(B, out, bc ? outbc : NULL, r->nn0, r->map0, r->nfree0, r->dyn, u, e)))
         goto done;

@@ -104,12 +104,16 @@ static int grow_base(mstep *s, int64_t nn)
     return 0;
 }
 
-/* a new node at node v's place, v its parent */
-static int32_t copy_node(aug_edit *ed, int32_t v)
+/* a new node at node v's place, v its parent; made: refine's copy of v
+   (its creator v, refine(1): it takes v's later constraints), else the
+   cut's own node (the cut's BDLT names it) */
+static int32_t copy_node(mstep *s, int32_t v, int made)
 {
     double x[3];
-    memcpy(x, aug_edit_x(ed, v), sizeof x);
-    return aug_edit_node(ed, x, v);
+    memcpy(x, aug_edit_x(s->ed, v), sizeof x);
+    int32_t c = aug_edit_node(s->ed, x, v);
+    if (c >= 0 && made && aug_refine_mem3_creators(s->r, c, &v, 1)) return -1;
+    return c;
 }
 
 static void frame_orig(const mstep *s, int32_t o, frame *f)
@@ -297,7 +301,7 @@ static int new_cut_nodes(mstep *s)
     for (int64_t i = 0; i < d->nnew; i++) {
         int32_t c = (int32_t)(s->nnc + i), par = d->parent[i], b;
         if (snap[i] >= 0) b = snap[i];
-        else if (!memcmp(C->x + 3 * (int64_t)c, C->x + 3 * (int64_t)par, 3 * sizeof(double))) b = copy_node(s->ed, r->cnode[par]);
+        else if (!memcmp(C->x + 3 * (int64_t)c, C->x + 3 * (int64_t)par, 3 * sizeof(double))) b = copy_node(s, r->cnode[par], 0);
         else b = aug_edit_node(s->ed, C->x + 3 * (int64_t)c, r->cnode[par]);
         if (b < 0) goto nomem;
         r->cnode[c] = b;
@@ -451,7 +455,7 @@ static int plane(mstep *s, int64_t k, aug_refine_q *q)
                              (int)d->step, (int)o);
             goto out;
         }
-        if ((lmap[i] = copy_node(ed, l2b[par])) < 0 || grow_base(s, lmap[i] + 1))
+        if ((lmap[i] = copy_node(s, l2b[par], 1)) < 0 || grow_base(s, lmap[i] + 1))
             goto nomem;
     }
     for (int64_t t = 0; t < W->m.ne; t++) {
@@ -522,7 +526,7 @@ static int unpinch(mstep *s)
         }
         for (int32_t a = 0; a < n && !rc; a++) {
             if (comp[a] != a || a == 0) continue;
-            int32_t cp = copy_node(ed, v);
+            int32_t cp = copy_node(s, v, 1);
             if (cp < 0 || grow_base(s, cp + 1)) {
                 rc = NOMEM(s);
                 break;

@@ -114,6 +114,7 @@ void aug_refiner_free(aug_refiner *r)
     free(r->own);
     free(r->corig);
     free(r->borig);
+    free(r->cre3);
     free(r->conn0);
     free(r->map0);
     free(r->last);
@@ -170,18 +171,18 @@ static int32_t *scores(const aug_mesh *m)
    prescribes one of them anew (a second --constrain of the set with
    another value, --drag): the square's right edge moved from (0.01, 0) to
    (0.05, 0.02) at step 3 left two midpoints refined at step 1 at (0.01, 0). */
-static int fix_inserted(const aug_refiner *r, aug_bdelta *out, aug_err *e)
+int aug_refine_fix_made(const aug_mesh *base, int64_t nn, const int32_t *parent, int64_t pbase,
+                        const int32_t *cre, int64_t ncre, aug_bdelta *out, aug_err *e)
 {
-    const aug_work *W = &r->work;
-    int dim = r->base.dim;
-    int64_t nn = W->m.nn, nb = r->base.nn;
+    int dim = base->dim;
+    int64_t nb = base->nn;
     double *v = aug_malloc((size_t)(nn * dim + 1) * sizeof *v);
     if (!v) return aug_err_set(e, AUG_ENOMEM, -1, "BDLT", "out of memory");
     for (int64_t j = 0; j < nn; j++)
         for (int c = 0; c < dim; c++) {
             double x;
-            int32_t p = j < nb ? -1 : W->parent[j - W->nn_begin];
-            v[j * dim + c] = j < nb ? (aug_mesh_fixed(&r->base, (int32_t)(j * dim + c), &x) ? x : NAN)
+            int32_t p = j < nb ? -1 : parent[j - pbase];
+            v[j * dim + c] = j < nb ? (aug_mesh_fixed(base, (int32_t)(j * dim + c), &x) ? x : NAN)
                                     : (p >= 0 && p < j ? v[(int64_t)p * dim + c] : NAN);
         }
     unsigned char *chg = aug_calloc((size_t)(nn * dim + 1), 1); /* prescribed by this step */
@@ -193,8 +194,8 @@ static int fix_inserted(const aug_refiner *r, aug_bdelta *out, aug_err *e)
         if (out->fix_dof[i] >= 0 && out->fix_dof[i] < nn * dim)
             v[out->fix_dof[i]] = out->fix_val[i], chg[out->fix_dof[i]] = 1;
     int rc = 0;
-    for (int64_t j = 0; j < nn && !rc; j++) {
-        const int32_t *cr = W->cre + j * 4;
+    for (int64_t j = 0; j < nn && !rc && j < ncre; j++) {
+        const int32_t *cr = cre + j * 4;
         if (cr[0] < 0) continue;
         for (int c = 0; c < dim && !rc; c++) {
             int64_t dj = j * dim + c;
@@ -215,6 +216,12 @@ static int fix_inserted(const aug_refiner *r, aug_bdelta *out, aug_err *e)
     free(v);
     free(chg);
     return rc;
+}
+
+static int fix_inserted(const aug_refiner *r, aug_bdelta *out, aug_err *e)
+{
+    const aug_work *W = &r->work;
+    return aug_refine_fix_made(&r->base, W->m.nn, W->parent, W->nn_begin, W->cre, W->m.nn, out, e);
 }
 
 static int translate_bc(const aug_refiner *r, const aug_bdelta *bc, aug_bdelta *out, aug_err *e)
