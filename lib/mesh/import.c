@@ -266,6 +266,12 @@ static int import_orientation(int reorient, work *w, aug_mesh *m, aug_err *e)
             }
         double v = aug_elem_measure(m, k);
         const char *what = mdim == 3 ? "volume" : "area";
+        /* an element whose measure is below the normal doubles (edges under
+           ~1e-102 in 3-D) has none the FEM can compute: not "degenerate",
+           too small (a tet of edge 1e-110 read "volume 0") */
+        if (l > 0 && !(pow(l, mdim) >= DBL_MIN))
+            return ERR(AUG_EDATA, "element %lld (gmsh tag %zu) is too small for double precision (longest edge "
+                       "%.6g: its %s underflows)", (long long)k, w->elems[k].tag, l, what);
         if (!(fabs(v) > 64 * DBL_EPSILON * pow(l, mdim)))
             return ERR(AUG_EDATA, "element %lld (gmsh tag %zu) is degenerate (%s %.6g)", (long long)k,
                        w->elems[k].tag, what, v);

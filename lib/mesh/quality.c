@@ -106,11 +106,17 @@ static void tet_quality(const aug_mesh *m, int64_t e, aug_quality *q)
         double cs = dot3(vk, vl) / (norm3(vk) * norm3(vl));
         dmin = fmin(dmin, acos(fmax(-1, fmin(1, cs))) * 180 / M_PI);
     }
-    double a[3], b[3], c[3], t[3], s[3];
+    /* R / (3 r) on the tet scaled to a longest edge of 1: R's numerator is
+       of degree 4 in the edges and its norm squares that (degree 8), which
+       underflowed to 0 below ~1e-38 (stats read aspect 0 for a tet of edge
+       1e-50) */
+    double a[3], b[3], c[3], t[3], s[3], w = emax > 0 ? 1 / emax : 1;
     sub3(P(m, e, 1), P(m, e, 0), a);
     sub3(P(m, e, 2), P(m, e, 0), b);
     sub3(P(m, e, 3), P(m, e, 0), c);
-    double V = aug_elem_measure(m, e);
+    for (int d = 0; d < 3; d++) a[d] *= w, b[d] *= w, c[d] *= w;
+    cross3(a, b, t);
+    double V = dot3(t, c) / 6.0; /* (scaled) */
     double num[3] = {0, 0, 0};
     cross3(b, c, t);
     for (int d = 0; d < 3; d++) num[d] += dot3(a, a) * t[d];
@@ -124,12 +130,13 @@ static void tet_quality(const aug_mesh *m, int64_t e, aug_quality *q)
     for (int f = 0; f < 4; f++) {
         sub3(P(m, e, faces[f][1]), P(m, e, faces[f][0]), s);
         sub3(P(m, e, faces[f][2]), P(m, e, faces[f][0]), t);
+        for (int d = 0; d < 3; d++) s[d] *= w, t[d] *= w;
         double n[3];
         cross3(s, t, n);
         area += 0.5 * norm3(n);
     }
     double r = 3 * fabs(V) / area;
-    q->measure = V;
+    q->measure = aug_elem_measure(m, e);
     q->edge_ratio = emax / emin;
     q->aspect = R / (3 * r);
     q->min_angle = dmin;

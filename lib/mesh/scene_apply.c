@@ -1,4 +1,5 @@
 /* Scene options applied to an imported mesh: materials, FIXD, LOAD (forces, gravity), oUTs. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,10 +73,33 @@ static void fixed(const aug_scene_spec *s, const aug_mesh *m, aug_sink *k, unsig
     }
 }
 
+/* the first --load after which a DOF's sum, or the total force, is not
+   finite (each value alone is: 1e308 twice on one node was written as inf,
+   a LOAD every reader refuses); 1 when reported */
+static int load_overflow(const aug_mesh *m, aug_sink *k, const aug_load_spec *l, const double *f)
+{
+    int64_t nd = m->nn * m->dim;
+    double tot[3] = {0, 0, 0};
+    for (int64_t i = 0; i < nd; i++) {
+        if (!isfinite(f[i])) {
+            aug_sink_report(k, "--load %s: the loads on node %lld add up to a non-finite force", l->arg,
+                            (long long)(i / m->dim));
+            return 1;
+        }
+        tot[i % m->dim] += fabs(f[i]);
+    }
+    for (int c = 0; c < m->dim; c++)
+        if (!isfinite(tot[c])) {
+            aug_sink_report(k, "--load %s: the loads add up to a non-finite total force", l->arg);
+            return 1;
+        }
+    return 0;
+}
+
 /* f[nn*dim] += every --load */
 static void loads(const aug_scene_spec *s, const aug_mesh *m, aug_sink *k, double *f)
 {
-    for (int j = 0; j < s->nload; j++) {
+    for (int j = 0, over = 0; j < s->nload; j++) {
         const aug_load_spec *l = &s->load[j];
         if (m->dim == 2 && l->F[2] != 0)
             aug_sink_report(k, "--load %s: a 2-D mesh takes no z force", l->arg);
@@ -91,6 +115,7 @@ static void loads(const aug_scene_spec *s, const aug_mesh *m, aug_sink *k, doubl
             const aug_set *g = need_set(k, m, "--load", l->arg, l->group);
             if (g) aug_load_spread(m, g->nodes, g->n, l->F, f);
         }
+        if (!over) over = load_overflow(m, k, l, f);
     }
 }
 
