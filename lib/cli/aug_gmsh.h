@@ -34,6 +34,12 @@ int aug_cmp_size(const void *a, const void *b);
    or an error code (memory). */
 int aug_msh2_groups(const char *path, aug_tagged *t, aug_err *e);
 
+/* Unnamed groups of t named from the file's $PhysicalNames where gmsh
+   dropped the name (a second group of one dimension and name:
+   phys_names.c; in gmsh's child). 0 (a file it cannot read: gmsh's names
+   stand). */
+int aug_physical_names(const char *path, aug_tagged *t, aug_err *e);
+
 /* The child's reply (tagged_pipe.c): code 0 and t, or an error code and e's
    message. send returns 0 or -1 (write failed). recv returns 0 with t filled
    (free it with aug_gmsh_free), the child's error code with e filled, or -1

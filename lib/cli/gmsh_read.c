@@ -361,6 +361,7 @@ static int read_model(const char *path, aug_tagged *t, aug_err *e)
     gmshFree(dt);
     /* an MSH 2 file's groups per element, not per entity (msh2_groups.c) */
     if (!rc) rc = aug_msh2_groups(path, t, e);
+    if (!rc) rc = aug_physical_names(path, t, e);
     return rc;
 }
 

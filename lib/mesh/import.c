@@ -181,21 +181,28 @@ static int import_materials(const aug_tagged *t, work *w, aug_mesh *m, aug_err *
     if (!m->mats || !m->mat) return NOMEM();
     for (int64_t k = 0; k < m->ne; k++) m->mat[k] = -1;
     int im = 0;
+    char name[AUG_NAME];
     for (int o = 0; o < t->ngroup; o++) {
         const aug_tagged_group *g = &t->groups[w->ord[o]];
         if (g->dim != gdim) continue;
-        aug_material *a = &m->mats[im];
-        a->id = g->tag;
-        aug_group_name(g, a->name);
+        /* groups that share a name are one material, the first one's tag its id */
+        aug_group_name(g, name);
+        int at = 0;
+        while (at < im && strcmp(m->mats[at].name, name) != 0) at++;
+        aug_material *a = &m->mats[at];
+        if (at == im) {
+            a->id = g->tag;
+            memcpy(a->name, name, AUG_NAME);
+            im++;
+        }
         for (size_t j = 0; j < g->nelem; j++) {
             int64_t k = find(w->elems, m->ne, g->elem_tags[j]);
             if (k < 0) continue;
-            if (m->mat[k] >= 0 && m->mat[k] != im)
+            if (m->mat[k] >= 0 && m->mat[k] != at)
                 return ERR(AUG_EDATA, "element %lld (gmsh tag %zu) is in two physical groups, '%s' and '%s'",
                            (long long)k, w->elems[k].tag, m->mats[m->mat[k]].name, a->name);
-            m->mat[k] = im;
+            m->mat[k] = at;
         }
-        im++;
     }
     int need_default = 0;
     for (int64_t k = 0; k < m->ne; k++)
