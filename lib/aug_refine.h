@@ -257,7 +257,8 @@ int aug_refine_mem3_creators(aug_refiner *r, int32_t node, const int32_t *c, int
 /* The constraints of the nodes refine made (refiner.c): out holds a step's
    translated constraints on the mesh base (before the step's new nodes,
    base->nn of them) grown to nn nodes; parent[j - pbase] is the parent of a
-   node j >= base->nn, cre its 4 creator slots (NULL past ncre nodes: none).
+   node j >= base->nn, cre[4 j ..] its 4 creator slots (nodes from ncre on
+   have none).
    A made node whose creators are all constrained in a component after the
    step is constrained there at their mean, and follows them when the step
    prescribes one of them anew. 0, or AUG_ENOMEM. */
