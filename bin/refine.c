@@ -169,6 +169,10 @@ int main(int argc, char **argv)
     if (o.deflate) aug_writer_deflate(t.w, 65536);
     while (aug_tool_read(&t, &rec) == 1) {
         const aug_rectype *rt = aug_rectype_find(rec.type);
+        /* a pLAN wherever it comes (after step 0's records, kept in a
+           step's place below): its steps against the stream's */
+        if (!memcmp(rec.type, "pLAN", 4) && (s.started || s.nbuf))
+            aug_tool_check(&t, aug_replay_add(&s.rp, &rec, &e), &e);
         if (rt && rt->perstep && rec.step >= 0) {
             /* the steps' order (formats 7.1), checked as the stream passes */
             aug_tool_check(&t, aug_replay_steps(&s.rp, &rec, &e), &e);

@@ -243,6 +243,14 @@ static int plan_agrees(const aug_replay *r, const aug_rec *rec, aug_err *e)
                        r->plan_index, (int)r->plan_first, (int)r->plan_last);
 }
 
+/* an UPDT with new DOFs whose step ended without an MDLT (7.2: k = dim
+   nnew; an MDLT after it is refused as out of order) */
+static int orphan_k(const aug_replay *r, aug_err *e)
+{
+    return aug_err_set(e, AUG_EDATA, r->k_orphan_index, "UPDT", "step %d: k = %d new DOFs, but the step has no MDLT",
+                       (int)r->k_orphan_step, (int)r->k_orphan);
+}
+
 int aug_replay_end(const aug_replay *r, aug_err *e)
 {
     aug_err_clear(e);
@@ -257,6 +265,7 @@ int aug_replay_end(const aug_replay *r, aug_err *e)
     if ((r->updt_step > 0 || r->have_kmat) && r->delta_lo > 0)
         return aug_err_set(e, AUG_EDATA, r->delta_index, r->delta_type,
                            "step %d's mesh or boundary delta has no UPDT (the stream ends)", (int)r->delta_lo);
+    if (r->k_orphan_step > 0) return orphan_k(r, e);
     if (r->plan_last <= 0 || r->last_step == r->plan_last) return 0;
     return aug_err_set(e, AUG_EDATA, r->plan_index, "pLAN", "plans steps to %d, but the stream ends at step %d",
                        (int)r->plan_last, (int)r->last_step);
@@ -271,6 +280,14 @@ int aug_replay_end(const aug_replay *r, aug_err *e)
    factor) are not concerned. */
 static int steps_agree(aug_replay *r, const aug_rec *rec, aug_err *e)
 {
+    /* cut steps are 1, 2, ...: step 0 is the state before the first cut,
+       and 0 is "none" below (a stream renumbered to step 0 lost its
+       checks: an UPDT dropped or doubled was solved as if whole) */
+    int delta = !memcmp(rec->type, "MDLT", 4) || !memcmp(rec->type, "BDLT", 4);
+    if ((delta || !memcmp(rec->type, "UPDT", 4) || !memcmp(rec->type, "UPKM", 4)) && rec->step < 1)
+        return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d: a cut step's record (steps are 1, 2, ...)",
+                           (int)rec->step);
+    if (r->k_orphan_step > 0 && rec->step > r->k_orphan_step) return orphan_k(r, e);
     if (!memcmp(rec->type, "UPDT", 4)) {
         if (r->kt_n > 0) {
             /* formats/stream.md 7.2: H indexes K_{t-1}, of order DOFM's free
@@ -285,6 +302,16 @@ static int steps_agree(aug_replay *r, const aug_rec *rec, aug_err *e)
                 return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
                                    "step %d: H[%d] = %d is not below the order %lld of the matrix before the step",
                                    (int)rec->step, (int)m - 1, (int)hmax, (long long)r->kt_n);
+            /* 7.2: the new DOFs are those of the step's new nodes (k = 0
+               in an UPDT of 60 new nodes was solved, their field read past
+               the matrix) */
+            int64_t want = r->sa_mdlt_step == rec->step ? r->mesh.dim * r->sa_mdlt_nnew : 0;
+            if (c.ok && r->mesh.dim > 0 && k > 0 && r->sa_mdlt_step != rec->step)
+                r->k_orphan_step = rec->step, r->k_orphan = k, r->k_orphan_index = rec->index;
+            else if (c.ok && r->mesh.dim > 0 && k != want)
+                return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
+                                   "step %d: k = %d new DOFs, but the step's MDLT adds %lld nodes (k = %lld)",
+                                   (int)rec->step, (int)k, (long long)(want / r->mesh.dim), (long long)want);
             if (c.ok) r->kt_n += k;
         }
         if (r->updt_step > 0 && rec->step <= r->updt_step)
@@ -295,7 +322,13 @@ static int steps_agree(aug_replay *r, const aug_rec *rec, aug_err *e)
                                "step %d, but step %d's mesh or boundary delta (record %ld) has no UPDT",
                                (int)rec->step, (int)r->delta_lo, r->delta_index);
         r->updt_step = rec->step, r->delta_lo = 0;
-    } else if (!memcmp(rec->type, "MDLT", 4) || !memcmp(rec->type, "BDLT", 4)) {
+    } else if (delta) {
+        if (!memcmp(rec->type, "MDLT", 4)) {
+            aug_cur c;
+            aug_cur_init(&c, rec);
+            int64_t nnew = aug_cur_i64(&c);
+            if (c.ok) r->sa_mdlt_step = rec->step, r->sa_mdlt_nnew = nnew;
+        }
         if (r->updt_step > 0 && rec->step <= r->updt_step)
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d after the UPDT of step %d",
                                (int)rec->step, (int)r->updt_step);

@@ -205,6 +205,9 @@ int aug_read_vector(const aug_rec *rec, int32_t *kind, int64_t *n, double **v, a
     int64_t len = aug_cur_i64(&c);
     if (!c.ok || len < 0 || len > INT32_MAX || c.len - c.pos != (uint64_t)len * 8)
         return BAD("vector length %lld does not match the payload", (long long)len);
+    /* 6.3: an FVEC's kind 0 is the only one (a kind 5 passed stats and
+       refine, and solve-aug blamed the UPDT after it) */
+    if (!memcmp(rec->type, "FVEC", 4) && k != 0) return DATA("kind %d (0, the load, is the only kind)", (int)k);
     double *x = aug_malloc((size_t)len * sizeof *x);
     if (!x) return NOMEM();
     aug_cur_f64v(&c, x, (uint64_t)len);

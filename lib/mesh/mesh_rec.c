@@ -224,6 +224,9 @@ static int absorb_grav(aug_mesh *m, const aug_rec *rec, aug_err *e)
     for (int i = 0; i < 3; i++)
         if (!(fabs(g[i]) <= 1e12))
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "component %d is %g", i, g[i]);
+    /* 5.8: a 2-D mesh's g[2] is 0 (factor solved one with g[2] = 5) */
+    if ((m->have & AUG_HAVE_NODE) && m->dim == 2 && g[2] != 0)
+        return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "g[2] = %g on a 2-D mesh (must be 0)", g[2]);
     memcpy(m->grav, g, sizeof g);
     return 0;
 }
@@ -248,6 +251,20 @@ static int absorb_fndn(aug_mesh *m, const aug_rec *rec, aug_err *e)
     return 0;
 }
 
+/* 5.9: a foundation only under a membrane (mem3), checked when both FNDN
+   and ELEM are in, whichever came last, naming it (factor named no record,
+   stats took it) */
+static int fndn_fits(const aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    int need = AUG_HAVE_ELEM | AUG_HAVE_FNDN;
+    if ((m->have & need) != need || m->etype == AUG_MEM3) return 0;
+    for (int i = 0; i < m->nmat; i++)
+        if (m->mats[i].kf != 0)
+            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "material %d (%s) has a foundation: only a "
+                               "membrane (mem3) mesh takes one", i, m->mats[i].name);
+    return 0;
+}
+
 int aug_mesh_absorb(aug_mesh *m, const aug_rec *rec, aug_err *e)
 {
     aug_err_clear(e);
@@ -266,6 +283,7 @@ int aug_mesh_absorb(aug_mesh *m, const aug_rec *rec, aug_err *e)
     else if (!memcmp(t, "FNDN", 4)) rc = absorb_fndn(m, rec, e), bit = AUG_HAVE_FNDN;
     else return aug_err_set(e, AUG_EUSAGE, rec->index, t, "not a mesh record");
     if (!rc) m->have |= bit;
+    if (!rc && (bit == AUG_HAVE_ELEM || bit == AUG_HAVE_FNDN)) rc = fndn_fits(m, rec, e);
     return rc;
 }
 

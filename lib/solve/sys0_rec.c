@@ -91,6 +91,23 @@ static double factor_relres(aug_sys0 *s, cholmod_sparse *K)
     return rr;
 }
 
+/* ||A - (cM M + cK K)||_inf / (|cM| ||M||_inf + |cK| ||K||_inf): formats
+   6.6, A assembled as cM M + cK K (a stream whose DYNP h was changed, cM and
+   cK with it, integrated with the A of the old h); NaN when CHOLMOD fails */
+static double a_off(cholmod_sparse *A, cholmod_sparse *M, cholmod_sparse *K, double cM, double cK,
+                    cholmod_common *cm)
+{
+    double one[2] = {1, 0}, mone[2] = {-1, 0}, a[2] = {cM, 0}, b[2] = {cK, 0}, r = NAN;
+    cholmod_sparse *C = cholmod_add(M, K, a, b, 1, 1, cm), *D = C ? cholmod_add(A, C, one, mone, 1, 1, cm) : NULL;
+    if (D) {
+        double den = fabs(cM) * cholmod_norm_sparse(M, 0, cm) + fabs(cK) * cholmod_norm_sparse(K, 0, cm);
+        r = cholmod_norm_sparse(D, 0, cm) / (den > 0 ? den : 1);
+    }
+    if (C) cholmod_free_sparse(&C, cm);
+    if (D) cholmod_free_sparse(&D, cm);
+    return r;
+}
+
 /* the solver of the first update record rec: K0, f0, the factor and a DOF
    numbering of nfree free DOFs (-1: none seen) must all be there and agree */
 int aug_sys0_solver(aug_sys0 *s, int64_t nfree, const aug_solver_opts *o, const aug_rec *rec,
@@ -114,6 +131,13 @@ int aug_sys0_solver(aug_sys0 *s, int64_t nfree, const aug_solver_opts *o, const 
     if (s->nf0 != (int64_t)K->nrow || nfree != (int64_t)K->nrow || s->K0->nrow != K->nrow ||
         (M && M->nrow != K->nrow))
         return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "FVEC, DOFM and KMAT orders differ");
+    if (M) {
+        double d = a_off(s->A0, M, s->K0, s->dyn.cM, s->dyn.cK, s->cm);
+        if (!(d <= 1e-10))
+            return aug_err_set(e, AUG_EDATA, s->a_index, "KMAT",
+                               "A is not cM M + cK K of DYNP (cM %.17g, cK %.17g): off by %.3g of its norm",
+                               s->dyn.cM, s->dyn.cK, d);
+    }
     if ((int64_t)s->L0->n != (int64_t)K->nrow)
         return aug_err_set(e, AUG_EDATA, s->l_index, "FACT", "order %lld, KMAT (record %ld) %lld",
                            (long long)s->L0->n, ki, (long long)K->nrow);

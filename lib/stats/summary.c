@@ -62,6 +62,7 @@ struct aug_summary {
     long nfeld;
     int32_t f_step;            /* the kept displacement field (step <= limit) */
     int f_dim, f_indexed;
+    long f_index;        /* the fELD's record */
     int64_t f_count;
     int32_t *f_node;
     double *f_u, f_max;
@@ -233,6 +234,43 @@ static int add_updt(aug_summary *s, const aug_rec *rec, aug_err *e)
     return rc;
 }
 
+/* 7.10: an rEAC's DOFs are DOFs of the mesh of its step, of its dimension
+   (stats, --csv and --vtk took a DOF 10^7 of a 684-DOF mesh) */
+static int reac_fits(const aug_mesh *m, const aug_rec *rec, aug_err *e)
+{
+    if (!(m->have & AUG_HAVE_NODE)) return 0;
+    aug_reaction q;
+    memset(&q, 0, sizeof q);
+    int rc = aug_read_reaction(rec, &q, e);
+    if (!rc && q.dim != m->dim)
+        rc = aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d: reactions of dimension %d on a %d-D mesh",
+                         (int)rec->step, q.dim, m->dim);
+    else if (!rc && q.n > 0 && q.dof[q.n - 1] >= m->nn * m->dim)
+        rc = aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d: DOF %d is not one of the %lld of its mesh",
+                         (int)rec->step, (int)q.dof[q.n - 1], (long long)(m->nn * m->dim));
+    aug_reaction_free(&q);
+    return rc;
+}
+
+/* a displacement fELD of dimension dim, count values (at node[], or nodes
+   0..count-1 when node is NULL) on the mesh m of its step: stats and --csv
+   took a node 10^6 of a 600-node mesh (--vtk refused it naming no record) */
+static int feld_fits(const aug_mesh *m, const aug_rec *rec, int dim, int64_t count, const int32_t *node,
+                     aug_err *e)
+{
+    if (dim != m->dim)
+        return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d: field of dimension %d on a %d-D mesh",
+                           (int)rec->step, dim, m->dim);
+    if (!node && count > m->nn)
+        return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d: %lld values for the %lld nodes of its mesh",
+                           (int)rec->step, (long long)count, (long long)m->nn);
+    for (int64_t i = 0; node && i < count; i++)
+        if (node[i] < 0 || node[i] >= m->nn)
+            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d: node %d is not one of the %lld of its mesh",
+                               (int)rec->step, (int)node[i], (long long)m->nn);
+    return 0;
+}
+
 /* fELD: validated; the last displacement field of a step <= limit is kept */
 static int add_feld(aug_summary *s, const aug_rec *rec, aug_err *e)
 {
@@ -247,6 +285,13 @@ static int add_feld(aug_summary *s, const aug_rec *rec, aug_err *e)
         free(u);
         return 0;
     }
+    /* 7.3: nodes of the mesh of its step (applied: its MDLT came before) */
+    int rc = (s->rp.mesh.have & AUG_HAVE_NODE) ? feld_fits(&s->rp.mesh, rec, dim, count, node, e) : 0;
+    if (rc) {
+        free(node);
+        free(u);
+        return rc;
+    }
     free(s->f_node);
     free(s->f_u);
     s->f_node = node;
@@ -254,6 +299,7 @@ static int add_feld(aug_summary *s, const aug_rec *rec, aug_err *e)
     s->f_step = rec->step;
     s->f_dim = dim;
     s->f_indexed = node != NULL;
+    s->f_index = rec->index;
     s->f_count = count;
     s->f_max = 0;
     for (int64_t i = 0; i < count; i++) {
@@ -354,8 +400,16 @@ int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e)
         if (rec->step > s->last_step) s->last_step = rec->step;
     }
     int rc = 0;
+    /* every per-step record's step against the pLAN (MDLT, UPDT and BDLT
+       through aug_replay_add below); stats took a pLAN that planned steps
+       the stream does not hold, as solve-aug and cut do not */
+    if (rt && rt->perstep && rec->step >= 0 && !is(rec, "MDLT") && !is(rec, "UPDT") && !is(rec, "BDLT") &&
+        aug_replay_steps(&s->rp, rec, e))
+        return e->code;
     if (is(rec, "pROv")) {
         rc = add_prov(s, rec, e);
+    } else if (is(rec, "pLAN")) {
+        rc = aug_replay_add(&s->rp, rec, e);
     } else if (aug_mesh_is_record(rec->type)) {
         rc = aug_replay_add(&s->rp, rec, e);
     } else if (is(rec, "DOFM") || is(rec, "KMAT") || is(rec, "FVEC") || is(rec, "FACT") ||
@@ -375,7 +429,8 @@ int aug_summary_add(aug_summary *s, const aug_rec *rec, aug_err *e)
     } else if (is(rec, "sTAt") || is(rec, "tIMe")) {
         rc = aug_steptab_add(&s->tab, rec, e);
     } else if (is(rec, "rEAC")) {
-        rc = rec->step <= s->limit ? aug_steptab_add(&s->tab, rec, e) : aug_check_payload(rec, e);
+        rc = rec->step <= s->limit ? reac_fits(&s->rp.mesh, rec, e) : 0;
+        if (!rc) rc = rec->step <= s->limit ? aug_steptab_add(&s->tab, rec, e) : aug_check_payload(rec, e);
     } else if (is(rec, "qUAl")) {
         rc = aug_read_kv(rec, &s->qual, e);
         s->nqual++;
@@ -414,10 +469,10 @@ int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned 
     const aug_mesh *m = aug_summary_mesh(s);
     if (s->f_step < 0 || !m) return 0;
     if (s->f_dim != m->dim)
-        return aug_err_set(e, AUG_EDATA, -1, "fELD", "step %d: field of dimension %d on a %d-D mesh",
+        return aug_err_set(e, AUG_EDATA, s->f_index, "fELD", "step %d: field of dimension %d on a %d-D mesh",
                            (int)s->f_step, s->f_dim, m->dim);
     if (!s->f_indexed && s->f_count > m->nn)
-        return aug_err_set(e, AUG_EDATA, -1, "fELD", "step %d: %lld values for %lld nodes",
+        return aug_err_set(e, AUG_EDATA, s->f_index, "fELD", "step %d: %lld values for %lld nodes",
                            (int)s->f_step, (long long)s->f_count, (long long)m->nn);
     double *x = aug_calloc((size_t)m->nn * m->dim, sizeof *x);
     unsigned char *k = aug_calloc((size_t)m->nn, 1);
@@ -431,7 +486,7 @@ int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned 
         if (node < 0 || node >= m->nn) {
             free(x);
             free(k);
-            return aug_err_set(e, AUG_EDATA, -1, "fELD", "step %d: node %lld out of range",
+            return aug_err_set(e, AUG_EDATA, s->f_index, "fELD", "step %d: node %lld out of range",
                                (int)s->f_step, (long long)node);
         }
         memcpy(x + node * m->dim, s->f_u + i * m->dim, (size_t)m->dim * sizeof *x);

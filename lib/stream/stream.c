@@ -202,7 +202,13 @@ static int inflate_payload(aug_rec *rec, const unsigned char *src, uint64_t srcl
     /* the probe byte past rawlen counts only when inflate wrote it */
     uint64_t produced = extra_used ? rawlen + (1u - z.avail_out)
                                    : (uint64_t)(op - rec->data) - z.avail_out;
+    /* bytes after the end of the deflated data (taken, and passed on as
+       they were by tools that copy a record) */
+    uint64_t left = z.avail_in + in_left;
     inflateEnd(&z);
+    if (rc == Z_STREAM_END && left > 0)
+        return aug_err_set(e, AUG_EZLIB, rec->index, rec->type, "%llu bytes after the end of the deflated payload",
+                           (unsigned long long)left);
     if (rc != Z_STREAM_END || produced != rawlen)
         return aug_err_set(e, AUG_EZLIB, rec->index, rec->type,
                            "deflated payload does not inflate to its stated %llu bytes",
@@ -376,6 +382,13 @@ aug_reader *aug_reader_open(FILE *f, const char *name, aug_err *e)
         aug_err_set(e, AUG_EVERSION, 0, "HEAD",
                     "format version %u.%u not supported (this is %d.%d)", major, minor,
                     AUG_VERSION_MAJOR, AUG_VERSION_MINOR);
+        goto fail;
+    }
+    /* its bounds and step as any record's (a HEAD of 5 KB or of step 7 was
+       taken: the first record skipped check_known) */
+    if (check_len(&table[0], rec.len, 0, "HEAD", e)) goto fail;
+    if (rec.step != AUG_NOSTEP) {
+        aug_err_set(e, AUG_EPAYLOAD, 0, "HEAD", "step %d on a record that is not per-step", (int)rec.step);
         goto fail;
     }
     r->minor = minor;

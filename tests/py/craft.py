@@ -44,7 +44,7 @@ usage: craft.py KIND IN [IN2] > OUT
                  the tIMe's = 'ms,x'; the second sTAt's (and tIMe's) tag = 'x\ny' (RFC 4180)
   rewrite        + step 1: an MDLT re-wiring every element as it is (no new node) and an
                  empty UPDT: every element is the step's, for refine's bisection in 3-D
-  mode-add       + valid MODE records (formats 7.5): at step 0 domain 0 (the first half of
+  mode-add       + valid MODE records (formats 7.5): at step 0 (before a pLAN) domain 0 (the first half of
                  the nodes, 3 snapshot modes, frame 0) and domain 1 (the odd nodes, 2 LMA
                  modes, frame 0); at the last step the same two domains over its mesh
                  (frame 2); phi = sin(1 + j + 0.37 node + 0.11 c)
@@ -53,6 +53,18 @@ usage: craft.py KIND IN [IN2] > OUT
                  count 2^40 / nodes 0 and 1 exchanged / phi[0] = NaN / sigma 0 and 1
                  exchanged (ascending for a snapshot basis)
   mode-far       mode-add, then its first MODE's last node = 10^6 (a valid record, off the mesh)
+  updt-k0        the last UPDT with k = 0 (E and df cut to H) while its step's MDLT adds nodes
+  step-zero      step 1's records renumbered to step 0 (pLAN removed) and that step's UPDT removed
+  plan-far       pLAN planning two steps more than the stream holds
+  grav-z         + GRAV (0, -9.8, 5) after FIXD (of a 2-D stream: g[2] must be 0)
+  fndn-solid     + FNDN (every material 3) after ELEM (of a tet or hex stream: membranes only)
+  feld-far       the last fELD indexed, its last node = 10^6 (off the step's mesh)
+  far-reac       the last rEAC's last DOF = 10^7 (off the step's mesh)
+  fvec-kind      the first FVEC's kind = 5
+  head-big       HEAD with 5000 more bytes (beyond 4096)
+  head-step      HEAD of step 7 (not per-step)
+  zlib-trail     the first FVEC deflated, 7 bytes after its deflated data
+  dynp-h         DYNP with h x 10, cM and cK recomputed for it (valid alone; A is of the old h)
 """
 import math, struct, sys, zlib
 
@@ -118,11 +130,107 @@ def add_modes(recs):
         return [mode_payload(0, frame, dim, 0, list(range(max(1, n // 2))), [3.0, 1.5, 0.5]),
                 mode_payload(1, frame, dim, 1, list(range(1, n, 2)), [10.0, 40.0])]
     body = [r for r in recs if r[0] != "TAIL"]
-    at = next((i for i, r in enumerate(body) if r[2] >= 1), len(body))
+    # (before a pLAN too: its steps are the per-step records after it, 4.4)
+    at = next((i for i, r in enumerate(body) if r[2] >= 1 or r[0] == "pLAN"), len(body))
     out = body[:at] + [("MODE", 0, 0, p) for p in two(nn, 0)] + body[at:]
     if last >= 1:
         out += [("MODE", 0, last, p) for p in two(nlast, 2)]
     return out
+
+
+def updt_k0(recs):
+    i = [j for j, r in enumerate(recs) if r[0] == "UPDT"][-1]
+    p = recs[i][3]
+    m, k = struct.unpack_from("<ii", p, 0)
+    assert k > 0, "the last UPDT adds no DOF"
+    s = m + k
+    E = struct.unpack_from("<%dd" % (s * s), p, 8 + 4 * m)
+    df = struct.unpack_from("<%dd" % s, p, 8 + 4 * m + 8 * s * s)
+    q = struct.pack("<ii", m, 0) + p[8:8 + 4 * m] + \
+        struct.pack("<%dd" % (m * m), *[E[a + b * s] for b in range(m) for a in range(m)]) + \
+        struct.pack("<%dd" % m, *df[:m])
+    put(recs, i, q)
+    return recs
+
+
+def step_zero(recs):
+    recs = [r for r in recs if r[0] != "pLAN"]
+    recs = [(t, f, 0 if s == 1 else s, p) for t, f, s, p in recs]
+    del recs[[j for j, r in enumerate(recs) if r[0] == "UPDT" and r[2] == 0][0]]
+    return recs
+
+
+def plan_far(recs):
+    i = first(recs, "pLAN")
+    a, b = struct.unpack_from("<ii", recs[i][3], 0)
+    put(recs, i, struct.pack("<ii", a, b + 2))
+    return recs
+
+
+def grav_z(recs):
+    recs.insert(first(recs, "FIXD") + 1, ("GRAV", 0, -1, struct.pack("<3d", 0.0, -9.8, 5.0)))
+    return recs
+
+
+def fndn_solid(recs):
+    n = struct.unpack_from("<i", recs[first(recs, "MATL")][3], 0)[0]
+    recs.insert(first(recs, "ELEM") + 1, ("FNDN", 0, -1, struct.pack("<ii", n, 0) + struct.pack("<%dd" % n, *[3.0] * n)))
+    return recs
+
+
+def feld_far(recs):
+    i = [j for j, r in enumerate(recs) if r[0] == "fELD"][-1]
+    p = recs[i][3]
+    kind, d, n, ix = struct.unpack_from("<iiqi", p, 0)
+    nodes = list(struct.unpack_from("<%di" % n, p, 24)) if ix else list(range(n))
+    vals = p[24 + 4 * n:] if ix else p[24:]
+    nodes[-1] = 10 ** 6
+    put(recs, i, struct.pack("<iiqii", kind, d, n, 1, 0) + struct.pack("<%di" % n, *nodes) + vals)
+    return recs
+
+
+def reac_far(recs):
+    i = [j for j, r in enumerate(recs) if r[0] == "rEAC"][-1]
+    p = bytearray(recs[i][3])
+    n = struct.unpack_from("<q", p, 16)[0]
+    struct.pack_into("<i", p, 32 + 4 * (n - 1), 10 ** 7)
+    put(recs, i, p)
+    return recs
+
+
+def fvec_kind(recs):
+    i = first(recs, "FVEC")
+    p = bytearray(recs[i][3])
+    struct.pack_into("<i", p, 0, 5)
+    put(recs, i, p)
+    return recs
+
+
+def head_big(recs):
+    put(recs, 0, recs[0][3] + b"x" * 5000)
+    return recs
+
+
+def head_step(recs):
+    t, f, s, p = recs[0]
+    recs[0] = (t, f, 7, p)
+    return recs
+
+
+def dynp_h(recs):
+    i = first(recs, "DYNP")
+    p = bytearray(recs[i][3])
+    integ, mass, h, al, be = struct.unpack_from("<iiddd", p, 0)
+    h *= 10
+    cm, ck = (1 + h * al, h * be + h * h) if integ == 0 else (1 + h * al / 2, h * be / 2 + h * h / 4)
+    struct.pack_into("<ddddd", p, 8, h, al, be, cm, ck)
+    put(recs, i, p)
+    return recs
+
+
+NEW = {"updt-k0": updt_k0, "step-zero": step_zero, "plan-far": plan_far, "grav-z": grav_z,
+       "fndn-solid": fndn_solid, "feld-far": feld_far, "far-reac": reac_far, "fvec-kind": fvec_kind,
+       "head-big": head_big, "head-step": head_step, "zlib-trail": lambda r: r, "dynp-h": dynp_h}
 
 
 def main():
@@ -373,6 +481,17 @@ def main():
         elif kind != "mode-add":
             raise SystemExit(__doc__)
         put(recs, i, p)
+    elif kind in NEW:
+        recs = NEW[kind](recs)
+        if kind == "zlib-trail":  # one frame deflated by hand: build() writes raw payloads
+            i = first(recs, "FVEC")
+            t, f, s, p = recs[i]
+            out = build(recs)
+            plain, bad = frame(t, p, s), frame(t, zlib.compress(p) + b"GARBAGE", s, 1, len(p))
+            assert out.count(plain) == 1
+            out = out.replace(plain, bad)
+            sys.stdout.buffer.write(out)
+            return
     else:
         raise SystemExit(__doc__)
     sys.stdout.buffer.write(build(recs))
