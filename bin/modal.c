@@ -376,7 +376,7 @@ static void step(aug_tool *t, const options *o, aug_replay *rp, session *ss, con
         if (!ss->km.EK)
             aug_tool_die(t, "%s: record %ld (UPDT): step %d of a dynamic stream has no UPKM", t->inname, rec->index,
                          (int)u.step);
-        aug_tool_check(t, aug_update_attach_km(&u, &ss->km, ss->km_index, rec, &e), &e);
+        aug_tool_check(t, aug_update_attach_km(&u, &ss->km, ss->km_index, rec, ss->sys.dyn.cM, ss->sys.dyn.cK, &e), &e);
         aug_update_free(&ss->km);
         int flags = rp->nmdlt && rp->mdlt_step == u.step ? rp->mdlt_flags : 0;
         if (aug_solver_step(ss->sys.solver, &u, NULL, 0, flags, &e)) fail_at(t, &e, rec);

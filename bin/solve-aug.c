@@ -328,7 +328,7 @@ static void step(aug_tool *t, options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy
         if (!dy->km.EK)
             aug_tool_die(t, "%s: record %ld (UPDT): step %d of a dynamic stream has no UPKM", t->inname,
                          rec->index, (int)u.step);
-        aug_tool_check(t, aug_update_attach_km(&u, &dy->km, dy->km_index, rec, &e), &e);
+        aug_tool_check(t, aug_update_attach_km(&u, &dy->km, dy->km_index, rec, sys->dyn.cM, sys->dyn.cK, &e), &e);
         aug_update_free(&dy->km);
     }
     start(t, o, rp, sys, dy, full_ms, rec);

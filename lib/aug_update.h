@@ -100,10 +100,12 @@ int aug_read_update(const aug_rec *rec, aug_update *u, aug_err *e);
 /* UPKM: i32 m, i32 k, f64 EK[s*s], f64 EM[s*s] (s = m + k, symmetric, finite);
    read into a struct whose m, k, step are set and EK, EM filled (H, E, df NULL).
    aug_update_attach_km moves them into the UPDT u of the same step, after
-   checking that step, m and k agree (else AUG_EDATA naming both records). */
+   checking that step, m and k agree (else AUG_EDATA naming both records) and
+   that u's E is cM EM + cK EK off the diagonal (formats 7.8; the diagonal of
+   a constrained index differs: identity rows in all three). */
 int aug_read_updkm(const aug_rec *rec, aug_update *km, aug_err *e);
-int aug_update_attach_km(aug_update *u, aug_update *km, long km_index, const aug_rec *updt,
-                         aug_err *e);
+int aug_update_attach_km(aug_update *u, aug_update *km, long km_index, const aug_rec *updt, double cM,
+                         double cK, aug_err *e);
 int aug_write_bdelta(aug_writer *w, const aug_bdelta *b, aug_err *e);
 int aug_read_bdelta(const aug_rec *rec, aug_bdelta *b, aug_err *e);
 int aug_write_path(aug_writer *w, const aug_pathrec *p, aug_err *e);

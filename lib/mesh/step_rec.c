@@ -173,8 +173,8 @@ int aug_read_updkm(const aug_rec *rec, aug_update *km, aug_err *e)
     return 0;
 }
 
-int aug_update_attach_km(aug_update *u, aug_update *km, long km_index, const aug_rec *updt,
-                         aug_err *e)
+int aug_update_attach_km(aug_update *u, aug_update *km, long km_index, const aug_rec *updt, double cM,
+                         double cK, aug_err *e)
 {
     aug_err_clear(e);
     if (km->step != u->step || km->m != u->m || km->k != u->k)
@@ -182,6 +182,28 @@ int aug_update_attach_km(aug_update *u, aug_update *km, long km_index, const aug
                            "step %d, m %d, k %d, its UPKM (record %ld) step %d, m %d, k %d",
                            (int)u->step, (int)u->m, (int)u->k, km_index, (int)km->step, (int)km->m,
                            (int)km->k);
+    /* 7.8: E = cM EM + cK EK off the constrained rows and columns. Those
+       differ on their diagonal only, where the identity rows of A_t, K_t and
+       M_t give E + 1 = cM (EM + 1) + cK (EK + 1) instead: every entry is
+       compared (an EK scaled by 5 was integrated), a diagonal one against
+       the nearer of the two, to 1e-9 of the largest cM EM and cK EK entries
+       plus cM + cK (E, EM and EK are differences of assembled matrices) */
+    int64_t s = (int64_t)u->m + u->k;
+    double em = 0, ek = 0, off = 0;
+    for (int64_t t = 0; t < s * s; t++) em = fmax(em, fabs(km->EM[t])), ek = fmax(ek, fabs(km->EK[t]));
+    int64_t at = -1;
+    for (int64_t b = 0; b < s; b++)
+        for (int64_t a = 0; a < s; a++) {
+            double E = u->E[a + b * s], M = km->EM[a + b * s], K = km->EK[a + b * s];
+            double d = fabs(E - (cM * M + cK * K));
+            if (a == b) d = fmin(d, fabs(E + 1 - (cM * (M + 1) + cK * (K + 1))));
+            if (d > off) off = d, at = a + b * s;
+        }
+    em += 1, ek += 1;
+    if (!(off <= 1e-9 * (fabs(cM) * em + fabs(cK) * ek)))
+        return aug_err_set(e, AUG_EDATA, updt->index, updt->type,
+                           "step %d: E is not cM EM + cK EK of its UPKM (record %ld): off by %.3g at (%lld, %lld)",
+                           (int)u->step, km_index, off, (long long)(at % s), (long long)(at / s));
     free(u->EK), free(u->EM);
     u->EK = km->EK, u->EM = km->EM;
     km->EK = km->EM = NULL;

@@ -65,6 +65,7 @@ usage: craft.py KIND IN [IN2] > OUT
   head-step      HEAD of step 7 (not per-step)
   zlib-trail     the first FVEC deflated, 7 bytes after its deflated data
   dynp-h         DYNP with h x 10, cM and cK recomputed for it (valid alone; A is of the old h)
+  upkm-ek5       the first UPKM's EK times 5 (symmetric, finite: its UPDT's E is no longer cM EM + cK EK)
 """
 import math, struct, sys, zlib
 
@@ -228,7 +229,17 @@ def dynp_h(recs):
     return recs
 
 
-NEW = {"updt-k0": updt_k0, "step-zero": step_zero, "plan-far": plan_far, "grav-z": grav_z,
+def upkm_ek5(recs):
+    i = first(recs, "UPKM")
+    p = recs[i][3]
+    m, k = struct.unpack_from("<ii", p, 0)
+    s = (m + k) * (m + k)
+    EK = struct.unpack_from("<%dd" % s, p, 8)
+    put(recs, i, p[:8] + struct.pack("<%dd" % s, *[5 * x for x in EK]) + p[8 + 8 * s:])
+    return recs
+
+
+NEW = {"upkm-ek5": upkm_ek5, "updt-k0": updt_k0, "step-zero": step_zero, "plan-far": plan_far, "grav-z": grav_z,
        "fndn-solid": fndn_solid, "feld-far": feld_far, "far-reac": reac_far, "fvec-kind": fvec_kind,
        "head-big": head_big, "head-step": head_step, "zlib-trail": lambda r: r, "dynp-h": dynp_h}
 
