@@ -62,16 +62,37 @@ def read(name):
     return out
 
 
+def samples(f, chords):
+    """parameters of f: chords uniform ones, then every chord longer than
+    1/chords of the item's length halved until none is (a rational arc of
+    weight 50 puts most uniform parameters near its middle control point and
+    left its legs in chords of a tenth of their length: the oracle then saw
+    the cut's nodes far from the path)"""
+    ts = [i / chords for i in range(chords + 1)]
+    for _ in range(40):
+        ps = [f(t) for t in ts]
+        lim = sum(math.dist(p, q) for p, q in zip(ps, ps[1:])) / chords
+        out = [ts[0]]
+        for a, b, p, q in zip(ts, ts[1:], ps, ps[1:]):
+            if math.dist(p, q) > lim and b - a > 1e-15:
+                out.append((a + b) / 2)
+            out.append(b)
+        if len(out) == len(ts):
+            return ts
+        ts = out
+    return ts
+
+
 class Path:
-    """the items sampled by fine chords: arc length s -> point"""
+    """the items sampled by fine chords (adaptive: samples): arc length s -> point"""
 
     def __init__(self, name, chords=1024):
         self.pts, self.s = [], []
         total = 0.0
         for f in read(name):
             prev = f(0.0)
-            for i in range(chords + 1):
-                p = f(i / chords)
+            for t in samples(f, chords):
+                p = f(t)
                 total += math.dist(prev, p)
                 self.pts.append(p)
                 self.s.append(total)
