@@ -224,8 +224,10 @@ static int absorb_grav(aug_mesh *m, const aug_rec *rec, aug_err *e)
     for (int i = 0; i < 3; i++)
         if (!(fabs(g[i]) <= 1e12))
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "component %d is %g", i, g[i]);
-    /* 5.8: a 2-D mesh's g[2] is 0 (factor solved one with g[2] = 5) */
-    if ((m->have & AUG_HAVE_NODE) && m->dim == 2 && g[2] != 0)
+    /* a load record: after NODE (3: taken before it, its 2-D check had no
+       dimension); 5.8: a 2-D mesh's g[2] is 0 (factor solved one with g[2] = 5) */
+    if (!(m->have & AUG_HAVE_NODE)) return aug_err_set(e, AUG_EORDER, rec->index, rec->type, "GRAV before NODE");
+    if (m->dim == 2 && g[2] != 0)
         return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "g[2] = %g on a 2-D mesh (must be 0)", g[2]);
     memcpy(m->grav, g, sizeof g);
     return 0;

@@ -57,6 +57,7 @@ usage: craft.py KIND IN [IN2] > OUT
   step-zero      step 1's records renumbered to step 0 (pLAN removed) and that step's UPDT removed
   plan-far       pLAN planning two steps more than the stream holds
   grav-z         + GRAV (0, -9.8, 5) after FIXD (of a 2-D stream: g[2] must be 0)
+  grav-early     + GRAV (0, -9.8, 0) before NODE (a load record: after NODE)
   fndn-solid     + FNDN (every material 3) after ELEM (of a tet or hex stream: membranes only)
   feld-far       the last fELD indexed, its last node = 10^6 (off the step's mesh)
   far-reac       the last rEAC's last DOF = 10^7 (off the step's mesh)
@@ -173,6 +174,11 @@ def grav_z(recs):
     return recs
 
 
+def grav_early(recs):
+    recs.insert(first(recs, "NODE"), ("GRAV", 0, -1, struct.pack("<3d", 0.0, -9.8, 0.0)))
+    return recs
+
+
 def fndn_solid(recs):
     n = struct.unpack_from("<i", recs[first(recs, "MATL")][3], 0)[0]
     recs.insert(first(recs, "ELEM") + 1, ("FNDN", 0, -1, struct.pack("<ii", n, 0) + struct.pack("<%dd" % n, *[3.0] * n)))
@@ -239,7 +245,7 @@ def upkm_ek5(recs):
     return recs
 
 
-NEW = {"upkm-ek5": upkm_ek5, "updt-k0": updt_k0, "step-zero": step_zero, "plan-far": plan_far, "grav-z": grav_z,
+NEW = {"upkm-ek5": upkm_ek5, "updt-k0": updt_k0, "step-zero": step_zero, "plan-far": plan_far, "grav-z": grav_z, "grav-early": grav_early,
        "fndn-solid": fndn_solid, "feld-far": feld_far, "far-reac": reac_far, "fvec-kind": fvec_kind,
        "head-big": head_big, "head-step": head_step, "zlib-trail": lambda r: r, "dynp-h": dynp_h}
 
