@@ -18,7 +18,7 @@ static const char *synopsis =
     "      [--maxit N] [--basis svd|identity] [--lead N] [--frames N] [--settle N] [--check]\n"
     "      [--ordering auto|amd|metis] [--after-cut all|neighbours|touched] [--warp] [--lma K]\n"
     "      [--fe-solver amps|cholmod] [--monitor]\n"
-    "      [--output all|surface|SET] [--seed S] [--threads N] [-h]";
+    "      [--output all|surface|SET|node:ID,...] [--seed S] [--threads N] [-h]";
 
 static const char *help =
     "  FILE                 input stream of factor --dynamic [| cut ...] (default: stdin)\n"
@@ -51,7 +51,7 @@ static const char *help =
     "  --warp               write the warped displacement (eqs. 16-17)\n"
     "  --lma K              the K lowest modes of every domain (MODE kind 1, sTAt lma)\n"
     "  --check              full FE on the same frames too: l2_err per frame, fe_ms\n"
-    "  --output all|surface|SET  nodes written in fRAM (default: the stream's oUTs)\n"
+    "  --output all|surface|SET|node:ID,...  nodes written in fRAM (default: the stream's oUTs)\n"
     "  --after-cut W        which reduced domains a cut step returns to FE: all (default),\n"
     "                       neighbours (those sharing an interface with a domain it\n"
     "                       touches) or touched (only those it re-wires: paper 004)\n"
@@ -118,7 +118,7 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
          .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
         {AUG_OPT_REAL("--err-tol", &m->err_tol, 0, 1, "a number in (0, 1)"),
          .flags = AUG_OPT_LO_OPEN | AUG_OPT_HI_OPEN},
-        {AUG_OPT_REAL("--acc-tol", &m->acc_tol, 0, 1e6, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
+        {AUG_OPT_REAL("--acc-tol", &m->acc_tol, 0, 1e6, "a number in (0, 1e6]"), .flags = AUG_OPT_LO_OPEN},
         {AUG_OPT_INT("--min-snap", &m->min_snap, 1, 100000000, "a count >= 1")},
         {AUG_OPT_INT("--sync", &m->sync, 0, 100000000, "a count >= 0")},
         {AUG_OPT_INT("--probes", &m->probes, 0, 64, "0 to 64")},
@@ -137,12 +137,15 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_FLAG("--warp", &m->warp)},
         {AUG_OPT_FLAG("--monitor", &o->monitor)},
         {AUG_OPT_INT("--lma", &o->lma, 1, AUG_MODES_MAX, "a count from 1 to 24")},
-        {AUG_OPT_STRING("--output", &o->output, "all, surface or a set name"), .flags = AUG_OPT_NONEMPTY},
+        {AUG_OPT_STRING("--output", &o->output, "all, surface, a set name or node:ID,..."), .flags = AUG_OPT_NONEMPTY},
         {AUG_OPT_INT("--seed", &o->seed, 1, 2000000000, "a positive integer")},
         {AUG_OPT_THREADS(&o->threads)},
     };
     aug_opt_parse(t, argc, argv, opt, (int)(sizeof opt / sizeof *opt), &o->file, synopsis, help);
     m->seed = (uint64_t)o->seed;
+    /* the estimate of the gate comes from the probes (none: a NaN gate that
+       never lets a domain switch, every frame FE without a word) */
+    if (m->gate_estimate && m->probes == 0) aug_tool_usage(t, "--gate estimate needs --probes K >= 1");
     aug_tool_usage_done(t, synopsis);
 }
 

@@ -71,7 +71,7 @@ static const char *help =
     "  --cgm-eps E          cgm-*: D' = D + E I, AS: COV + E I (default 1e-6)\n"
     "  --cgm-p P            cgm-es: exponent of D' (default 0.5)\n"
     "  --cgm-max-n N        cgm-*: refuse K_t of order above N (dense; default 8400)\n"
-    "  --ns-tol T           cgm-as: Newton-Schulz relative step tolerance (default 1e-12)\n"
+    "  --ns-tol T           cgm-as: Newton-Schulz stops at ||I - Q_k P_k||_F <= T (default 1e-10)\n"
     "  --ns-maxit N         cgm-as: Newton-Schulz iteration cap (default 100)\n"
     "  -h                   this help; see solve-aug(1)\n";
 
@@ -80,7 +80,7 @@ typedef struct options {
     aug_solver_opts so;
     int on_singular_report;
     int time_full;
-    int frames, settle, nframes;
+    int frames, settle, nframes, nsettle;
     int no_reactions;
     int prefault;     /* MiB */
     double pf_ms;     /* its time, reported once (< 0: reported or none) */
@@ -144,10 +144,10 @@ static void parse(aug_tool *t, int argc, char **argv, options *o)
         {AUG_OPT_CHOICE("--reach", &so->reach_cholmod, reaches, "path or cholmod")},
         {AUG_OPT_THREADS(&so->nthreads)},
         {AUG_OPT_INT("--frames", &o->frames, 1, 100000000, "a count >= 1"), .given = &o->nframes},
-        {AUG_OPT_INT("--settle", &o->settle, 0, 100000000, "a count >= 0")},
+        {AUG_OPT_INT("--settle", &o->settle, 0, 100000000, "a count >= 0"), .given = &o->nsettle},
         {AUG_OPT_CHOICE("--pcg-prec", &so->pcg_prec, pcg_precs, "none, jacobi, ic or ic-amd")},
         {AUG_OPT_REAL("--cgm-eps", &so->cgm.eps, 0, 1e300, "a number in (0, 1e300]"), .flags = AUG_OPT_LO_OPEN},
-        {AUG_OPT_REAL("--cgm-p", &so->cgm.p, 0, 1e300, "a number > 0"), .flags = AUG_OPT_LO_OPEN},
+        {AUG_OPT_REAL("--cgm-p", &so->cgm.p, 0, 1e300, "a number in (0, 1e300]"), .flags = AUG_OPT_LO_OPEN},
         {AUG_OPT_INT("--cgm-max-n", &max_n, 1, 46340, "1 to 46340")},
         {AUG_OPT_INT("--prefault", &o->prefault, 0, 1900, "0 to 1900 (MiB)")},
         {AUG_OPT_REAL("--ns-tol", &so->cgm.ns_tol, 0, 1, "a number in (0, 1)"),
@@ -223,10 +223,17 @@ static void start(aug_tool *t, options *o, aug_replay *rp, aug_sys0 *sys, dyn *d
     dy->started = 1;
 }
 
+/* the first tIMe after the prefault carries its time (prefault_ms) */
+static void pf_once(options *o, aug_kv *tm)
+{
+    if (o->pf_ms >= 0 && o->prefault) aug_kv_set(tm, "prefault_ms", o->pf_ms);
+    o->pf_ms = -1;
+}
+
 /* n frames of the current step: the right-hand side from the state, every
    method's solve, the state advanced by the first method's solution, then
    fRAM, sTAt and tIMe per method and sTAt (tag dynamics) per frame */
-static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
+static void frames(aug_tool *t, options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy,
                    int32_t step, long n, double full_ms, const aug_rec *rec, aug_react *rs)
 {
     aug_err e;
@@ -289,6 +296,7 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys,
             aug_tool_check(t, aug_write_kv(t->w, "sTAt", step, &st, &e), &e);
             aug_kv_set(&tm, "frame", d->frame);
             aug_kv_set(&tm, "full_solve_ms", full_ms);
+            pf_once(o, &tm); /* (a settle-only run has no step's tIMe) */
             aug_tool_check(t, aug_write_kv(t->w, "tIMe", step, &tm, &e), &e);
         }
         aug_kv k;
@@ -308,12 +316,6 @@ static void frames(aug_tool *t, const options *o, aug_replay *rp, aug_sys0 *sys,
     }
 }
 
-/* the first tIMe after the prefault carries its time (prefault_ms) */
-static void pf_once(options *o, aug_kv *tm)
-{
-    if (o->pf_ms >= 0 && o->prefault) aug_kv_set(tm, "prefault_ms", o->pf_ms);
-    o->pf_ms = -1;
-}
 
 /* one UPDT: every method solves K_t; the first one's field on the output set
    and the reaction forces (rs, NULL: none), then sTAt and tIMe per method;
@@ -356,6 +358,8 @@ static void step(aug_tool *t, options *o, aug_replay *rp, aug_sys0 *sys, dyn *dy
             pf_once(o, &tm);
             aug_tool_check(t, aug_write_kv(t->w, "tIMe", u.step, &tm, &e), &e);
         }
+        /* the reference of the step's frames (A_t's), timed next to them */
+        if (o->time_full) *full_ms = aug_solver_full_solve_ms(s, 1);
         frames(t, o, rp, sys, dy, u.step, o->frames, *full_ms, rec, rs);
         aug_update_free(&u);
         return;
@@ -409,7 +413,7 @@ int main(int argc, char **argv)
         int perstep = aug_rec_changes_step(&rec);
         /* a static stream is known by its first step (DYNP comes before):
            refused there, not after solving every step */
-        if (perstep && !sys.dynamic && (o.settle || o.nframes))
+        if (perstep && !sys.dynamic && (o.nsettle || o.nframes))
             aug_tool_die(&t, "%s: record %ld (%s): --frames and --settle need a dynamic stream (factor --dynamic)",
                          t.inname, rec.index, rec.type);
         /* the state starts on the original mesh, before the first step's records */
@@ -444,7 +448,7 @@ int main(int argc, char **argv)
     if (sys.dynamic && o.settle > 0) {
         start(&t, &o, &rp, &sys, &dy, &full_ms, &rec);
         frames(&t, &o, &rp, &sys, &dy, rp.last_step, o.settle, full_ms, &rec, o.no_reactions ? NULL : &rs);
-    } else if (!sys.dynamic && (o.settle || o.nframes)) {
+    } else if (!sys.dynamic && (o.nsettle || o.nframes)) {
         aug_tool_die(&t, "%s: --frames and --settle need a dynamic stream (factor --dynamic)", t.inname);
     }
     aug_tool_close(&t);
