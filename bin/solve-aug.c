@@ -316,7 +316,6 @@ static void frames(aug_tool *t, options *o, aug_replay *rp, aug_sys0 *sys, dyn *
     }
 }
 
-
 /* one UPDT: every method solves K_t; the first one's field on the output set
    and the reaction forces (rs, NULL: none), then sTAt and tIMe per method;
    dynamic: the step's frames */
