@@ -614,6 +614,9 @@ class Checker:
                 left = int(o.get("--steps", "0"))
                 if "--plane" in o:
                     stage = [o, Plane(self.cm, o)]
+                elif "--path" not in o:  # a blade or a surface: check_blade.py's (it crashed, KeyError)
+                    self.fail("a cut stage with neither --plane nor --path (%s): use check_blade.py"
+                              % " ".join(sorted(k for k in o if k.startswith("--"))))
                 else:
                     try:
                         stage = [o, pathfile.Path(o["--path"]), 0]
