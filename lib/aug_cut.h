@@ -47,8 +47,6 @@ typedef struct aug_replay {
     int have_kmat;             /* a KMAT passed: every step's deltas need an UPDT */
     long kmat_index;           /* ... the first one's record (it needs a DOFM, 6.1) */
     int64_t kt_n;              /* order of K_t after the UPDTs so far (0: no DOFM yet) */
-    int32_t sa_mdlt_step;      /* steps_agree: the latest MDLT's step (0: none) ... */
-    int64_t sa_mdlt_nnew;      /* ... and its new nodes (a step's UPDT has k = dim nnew) */
     int32_t k_orphan_step, k_orphan; /* an UPDT with k > 0 before any MDLT of its step ... */
     long k_orphan_index;       /* ... its record (refused once its step is over) */
     int32_t plan_first, plan_last; /* the latest pLAN's steps (0: none read) */
@@ -56,7 +54,9 @@ typedef struct aug_replay {
     int32_t step_limit;        /* default INT32_MAX */
     const char *output;        /* all, surface, a set name, or NULL (the stream's oUTs) */
     long nmdlt, applied;       /* MDLT records read, applied */
-    int32_t mdlt_step, mdlt_flags; /* the latest MDLT's step, flags (AUG_STEP_*) and counts */
+    int32_t mdlt_step, mdlt_flags; /* the latest MDLT's step, flags (AUG_STEP_*) and counts
+                                  (step and nnew set by the step checks, which every
+                                  path runs: a step's UPDT has k = dim nnew) */
     int64_t mdlt_nnew, mdlt_nmod, mdlt_nadd;
     int32_t *mdlt_parent;      /* the latest MDLT's parent[mdlt_nnew] */
     int32_t *out_dof;          /* aug_replay_out_dofs' array */

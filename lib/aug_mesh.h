@@ -80,6 +80,9 @@ int aug_mesh_copy(aug_mesh *t, const aug_mesh *m);
 int aug_mesh_is_record(const char *type);
 /* Absorb one mesh record into m (validating indices against what is known). */
 int aug_mesh_absorb(aug_mesh *m, const aug_rec *rec, aug_err *e);
+/* the first material with a foundation (kf != 0) on a mesh that is not mem3
+   (formats 5.9: only a membrane takes one), or -1 */
+int aug_mesh_fndn_misplaced(const aug_mesh *m);
 /* After all mesh records: cross-checks (element node indices < nn, material
    indices < nmat, constraint/load dofs < nn*dim, finite coordinates). */
 int aug_mesh_validate(const aug_mesh *m, aug_err *e);

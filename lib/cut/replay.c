@@ -191,8 +191,7 @@ static int add_mdlt(aug_replay *r, const aug_rec *rec, aug_err *e)
     int rc = aug_read_mdelta(rec, m->dim, m->nv, &d, e);
     if (!rc) {
         r->nmdlt++;
-        r->mdlt_step = d.step, r->mdlt_flags = d.flags;
-        r->mdlt_nnew = d.nnew, r->mdlt_nmod = d.nmod, r->mdlt_nadd = d.nadd;
+        r->mdlt_flags = d.flags, r->mdlt_nmod = d.nmod, r->mdlt_nadd = d.nadd; /* (step, nnew: steps_agree) */
         if (rec->step <= r->step_limit) {
             int64_t ne0 = m->ne;
             rc = aug_mesh_apply(m, &d, e);
@@ -305,8 +304,8 @@ static int steps_agree(aug_replay *r, const aug_rec *rec, aug_err *e)
             /* 7.2: the new DOFs are those of the step's new nodes (k = 0
                in an UPDT of 60 new nodes was solved, their field read past
                the matrix) */
-            int64_t want = r->sa_mdlt_step == rec->step ? r->mesh.dim * r->sa_mdlt_nnew : 0;
-            if (c.ok && r->mesh.dim > 0 && k > 0 && r->sa_mdlt_step != rec->step)
+            int64_t want = r->mdlt_step == rec->step ? r->mesh.dim * r->mdlt_nnew : 0;
+            if (c.ok && r->mesh.dim > 0 && k > 0 && r->mdlt_step != rec->step)
                 r->k_orphan_step = rec->step, r->k_orphan = k, r->k_orphan_index = rec->index;
             else if (c.ok && r->mesh.dim > 0 && k != want)
                 return aug_err_set(e, AUG_EDATA, rec->index, rec->type,
@@ -327,7 +326,7 @@ static int steps_agree(aug_replay *r, const aug_rec *rec, aug_err *e)
             aug_cur c;
             aug_cur_init(&c, rec);
             int64_t nnew = aug_cur_i64(&c);
-            if (c.ok) r->sa_mdlt_step = rec->step, r->sa_mdlt_nnew = nnew;
+            if (c.ok) r->mdlt_step = rec->step, r->mdlt_nnew = nnew;
         }
         if (r->updt_step > 0 && rec->step <= r->updt_step)
             return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d after the UPDT of step %d",

@@ -72,11 +72,18 @@ int aug_mesh_validate(const aug_mesh *m, aug_err *e)
     if ((m->have & need) != need)
         return aug_err_set(e, AUG_EDATA, -1, "", "stream has no mesh (NODE, MATL and ELEM needed)");
     if (m->ne == 0) return aug_err_set(e, AUG_EDATA, -1, "ELEM", "mesh has no elements");
-    for (int i = 0; i < m->nmat && m->etype != AUG_MEM3; i++)
-        if (m->mats[i].kf != 0)
-            return aug_err_set(e, AUG_EDATA, -1, "FNDN", "material %d (%s) has a foundation: only a membrane "
-                               "(mem3) mesh takes one", i, m->mats[i].name);
+    int i = aug_mesh_fndn_misplaced(m);
+    if (i >= 0)
+        return aug_err_set(e, AUG_EDATA, -1, "FNDN", "material %d (%s) has a foundation: only a membrane "
+                           "(mem3) mesh takes one", i, m->mats[i].name);
     return 0;
+}
+
+int aug_mesh_fndn_misplaced(const aug_mesh *m)
+{
+    for (int i = 0; i < m->nmat && m->etype != AUG_MEM3; i++)
+        if (m->mats[i].kf != 0) return i;
+    return -1;
 }
 
 const aug_set *aug_mesh_set(const aug_mesh *m, const char *name)

@@ -258,12 +258,10 @@ static int absorb_fndn(aug_mesh *m, const aug_rec *rec, aug_err *e)
    stats took it) */
 static int fndn_fits(const aug_mesh *m, const aug_rec *rec, aug_err *e)
 {
-    int need = AUG_HAVE_ELEM | AUG_HAVE_FNDN;
-    if ((m->have & need) != need || m->etype == AUG_MEM3) return 0;
-    for (int i = 0; i < m->nmat; i++)
-        if (m->mats[i].kf != 0)
-            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "material %d (%s) has a foundation: only a "
-                               "membrane (mem3) mesh takes one", i, m->mats[i].name);
+    int need = AUG_HAVE_ELEM | AUG_HAVE_FNDN, i = (m->have & need) == need ? aug_mesh_fndn_misplaced(m) : -1;
+    if (i >= 0)
+        return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "material %d (%s) has a foundation: only a "
+                           "membrane (mem3) mesh takes one", i, m->mats[i].name);
     return 0;
 }
 

@@ -252,22 +252,24 @@ static int reac_fits(const aug_mesh *m, const aug_rec *rec, aug_err *e)
     return rc;
 }
 
-/* a displacement fELD of dimension dim, count values (at node[], or nodes
-   0..count-1 when node is NULL) on the mesh m of its step: stats and --csv
-   took a node 10^6 of a 600-node mesh (--vtk refused it naming no record) */
-static int feld_fits(const aug_mesh *m, const aug_rec *rec, int dim, int64_t count, const int32_t *node,
+/* a displacement fELD (record index, of step) of dimension dim, count
+   values (at node[], or nodes 0..count-1 when node is NULL) on the mesh m:
+   that of its step when read (stats and --csv took a node 10^6 of a
+   600-node mesh, --vtk refused it naming no record), the summary's when its
+   field is filled in (aug_summary_field: nodes are only added) */
+static int feld_fits(const aug_mesh *m, long index, int32_t step, int dim, int64_t count, const int32_t *node,
                      aug_err *e)
 {
     if (dim != m->dim)
-        return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d: field of dimension %d on a %d-D mesh",
-                           (int)rec->step, dim, m->dim);
+        return aug_err_set(e, AUG_EDATA, index, "fELD", "step %d: field of dimension %d on a %d-D mesh", (int)step,
+                           dim, m->dim);
     if (!node && count > m->nn)
-        return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d: %lld values for the %lld nodes of its mesh",
-                           (int)rec->step, (long long)count, (long long)m->nn);
+        return aug_err_set(e, AUG_EDATA, index, "fELD", "step %d: %lld values for the %lld nodes of its mesh",
+                           (int)step, (long long)count, (long long)m->nn);
     for (int64_t i = 0; node && i < count; i++)
         if (node[i] < 0 || node[i] >= m->nn)
-            return aug_err_set(e, AUG_EDATA, rec->index, rec->type, "step %d: node %d is not one of the %lld of its mesh",
-                               (int)rec->step, (int)node[i], (long long)m->nn);
+            return aug_err_set(e, AUG_EDATA, index, "fELD", "step %d: node %d is not one of the %lld of its mesh",
+                               (int)step, (int)node[i], (long long)m->nn);
     return 0;
 }
 
@@ -286,7 +288,7 @@ static int add_feld(aug_summary *s, const aug_rec *rec, aug_err *e)
         return 0;
     }
     /* 7.3: nodes of the mesh of its step (applied: its MDLT came before) */
-    int rc = (s->rp.mesh.have & AUG_HAVE_NODE) ? feld_fits(&s->rp.mesh, rec, dim, count, node, e) : 0;
+    int rc = (s->rp.mesh.have & AUG_HAVE_NODE) ? feld_fits(&s->rp.mesh, rec->index, rec->step, dim, count, node, e) : 0;
     if (rc) {
         free(node);
         free(u);
@@ -468,12 +470,8 @@ int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned 
     *mask = NULL;
     const aug_mesh *m = aug_summary_mesh(s);
     if (s->f_step < 0 || !m) return 0;
-    if (s->f_dim != m->dim)
-        return aug_err_set(e, AUG_EDATA, s->f_index, "fELD", "step %d: field of dimension %d on a %d-D mesh",
-                           (int)s->f_step, s->f_dim, m->dim);
-    if (!s->f_indexed && s->f_count > m->nn)
-        return aug_err_set(e, AUG_EDATA, s->f_index, "fELD", "step %d: %lld values for %lld nodes",
-                           (int)s->f_step, (long long)s->f_count, (long long)m->nn);
+    if (feld_fits(m, s->f_index, s->f_step, s->f_dim, s->f_count, s->f_indexed ? s->f_node : NULL, e))
+        return e->code;
     double *x = aug_calloc((size_t)m->nn * m->dim, sizeof *x);
     unsigned char *k = aug_calloc((size_t)m->nn, 1);
     if (!x || !k) {
@@ -483,12 +481,6 @@ int aug_summary_field(const aug_summary *s, int32_t *step, double **u, unsigned 
     }
     for (int64_t i = 0; i < s->f_count; i++) {
         int64_t node = s->f_indexed ? s->f_node[i] : i;
-        if (node < 0 || node >= m->nn) {
-            free(x);
-            free(k);
-            return aug_err_set(e, AUG_EDATA, s->f_index, "fELD", "step %d: node %lld out of range",
-                               (int)s->f_step, (long long)node);
-        }
         memcpy(x + node * m->dim, s->f_u + i * m->dim, (size_t)m->dim * sizeof *x);
         k[node] = 1;
     }
